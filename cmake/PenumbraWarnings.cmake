@@ -1,0 +1,17 @@
+# Warnings for Penumbra's own targets.
+function(penumbra_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wno-missing-field-initializers)
+endfunction()
+
+# An object library of one module: its sources are every .cpp in the folder.
+function(penumbra_module name)
+  cmake_parse_arguments(ARG "" "" "DEPENDS" ${ARGN})
+  file(GLOB _sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  if(NOT _sources)  # TEMPORARY while the module is being written
+    set(_sources ${PROJECT_SOURCE_DIR}/cmake/empty_module.cpp)
+  endif()
+  add_library(${name} OBJECT ${_sources})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR} ${PROJECT_SOURCE_DIR}/core/include)
+  target_link_libraries(${name} PUBLIC ${ARG_DEPENDS})
+  penumbra_warnings(${name})
+endfunction()

@@ -1,0 +1,244 @@
+#include "core/scene.h"
+
+#include <algorithm>
+#include <string>
+
+namespace penumbra {
+namespace {
+
+template <class T, class Pred>
+size_t eraseIf(std::vector<T>& v, Pred bad) {
+    size_t before = v.size();
+    v.erase(std::remove_if(v.begin(), v.end(), bad), v.end());
+    return before - v.size();
+}
+
+bool finiteTransform(const Transform& t) {
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            if (!std::isfinite(t(r, c))) return false;
+    return true;
+}
+
+// Drops the bad triangles of one mesh; returns how many were dropped.
+size_t repairMesh(TriangleMesh& m, const Logger& log) {
+    const size_t nv = m.positions.size();
+    const size_t nt = m.triangleCount();
+    if (m.indices.size() % 3 != 0) m.indices.resize(nt * 3);
+    if (!m.faceMaterials.empty() && m.faceMaterials.size() != nt) {
+        log.warn("mesh '" + m.name + "': per-face material count does not match the triangles; using one material");
+        m.faceMaterials.clear();
+    }
+    if (!m.normals.empty() && m.normals.size() != nv) {
+        log.warn("mesh '" + m.name + "': normal count does not match the vertices; using geometric normals");
+        m.normals.clear();
+    }
+    if (!m.uvs.empty() && m.uvs.size() != nv) {
+        log.warn("mesh '" + m.name + "': UV count does not match the vertices; ignoring UVs");
+        m.uvs.clear();
+    }
+    for (auto& n : m.normals)
+        if (!isFinite(n)) n = Vec3f{};  // completeHit falls back to the geometric normal
+
+    size_t kept = 0;
+    for (size_t t = 0; t < nt; ++t) {
+        uint32_t i0 = m.indices[3 * t], i1 = m.indices[3 * t + 1], i2 = m.indices[3 * t + 2];
+        bool ok = i0 < nv && i1 < nv && i2 < nv;
+        if (ok) {
+            const Vec3f &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
+            ok = isFinite(p0) && isFinite(p1) && isFinite(p2) && lengthSquared(cross(p1 - p0, p2 - p0)) > 0.f;
+        }
+        if (!ok) continue;
+        if (kept != t) {
+            m.indices[3 * kept] = i0;
+            m.indices[3 * kept + 1] = i1;
+            m.indices[3 * kept + 2] = i2;
+            if (!m.faceMaterials.empty()) m.faceMaterials[kept] = m.faceMaterials[t];
+        }
+        ++kept;
+    }
+    m.indices.resize(kept * 3);
+    if (!m.faceMaterials.empty()) m.faceMaterials.resize(kept);
+    return nt - kept;
+}
+
+}  // namespace
+
+SceneFixups Scene::finalize(const Logger& log) {
+    SceneFixups fix;
+    if (materials.empty()) {
+        Material def;
+        def.name = "default";
+        materials.push_back(def);
+    }
+    for (auto& m : meshes) fix.droppedTriangles += repairMesh(m, log);
+    eraseIf(meshes, [](const TriangleMesh& m) { return m.indices.empty(); });
+
+    fix.droppedShapes += eraseIf(spheres, [](const Sphere& s) {
+        return !isFinite(s.center) || !std::isfinite(s.radius) || !(s.radius > 0.f);
+    });
+    fix.droppedShapes += eraseIf(planes, [](const Plane& p) {
+        return !isFinite(p.point) || !isFinite(p.normal) || !(lengthSquared(p.normal) > 0.f);
+    });
+    for (auto& p : planes) p.normal = normalize(p.normal);
+    fix.droppedShapes += eraseIf(boxes, [](const Box& b) {
+        Transform inv;
+        return !isFinite(b.lo) || !isFinite(b.hi) || b.lo.x > b.hi.x || b.lo.y > b.hi.y || b.lo.z > b.hi.z ||
+               !finiteTransform(b.worldFromObject) || !b.worldFromObject.inverse(inv);
+    });
+    for (auto& b : boxes) b = makeBox(b.lo, b.hi, b.worldFromObject, b.material);
+    fix.droppedShapes += eraseIf(rectangles, [](const Rectangle& q) {
+        return !isFinite(q.p0) || !isFinite(q.a) || !isFinite(q.b) || !(area(q) > 0.f);
+    });
+    fix.droppedShapes += eraseIf(disks, [](const Disk& d) {
+        return !isFinite(d.center) || !isFinite(d.normal) || !(lengthSquared(d.normal) > 0.f) ||
+               !std::isfinite(d.radius) || !(d.radius > 0.f);
+    });
+    for (auto& d : disks) d.normal = normalize(d.normal);
+
+    // Material ids out of range fall back to material 0.
+    size_t badIds = 0;
+    const uint32_t nm = static_cast<uint32_t>(materials.size());
+    auto fixId = [&](uint32_t& id) {
+        if (id >= nm) {
+            id = 0;
+            ++badIds;
+        }
+    };
+    for (auto& s : spheres) fixId(s.material);
+    for (auto& s : planes) fixId(s.material);
+    for (auto& s : boxes) fixId(s.material);
+    for (auto& s : rectangles) fixId(s.material);
+    for (auto& s : disks) fixId(s.material);
+    for (auto& m : meshes) {
+        fixId(m.material);
+        for (auto& id : m.faceMaterials) fixId(id);
+    }
+    for (auto& m : materials)
+        if (m.diffuseTexture >= static_cast<int>(textures.size())) m.diffuseTexture = -1;
+
+    if (fix.droppedTriangles)
+        log.warn("dropped " + std::to_string(fix.droppedTriangles) +
+                 " triangle(s) with out-of-range indices, non-finite coordinates or zero area");
+    if (fix.droppedShapes)
+        log.warn("dropped " + std::to_string(fix.droppedShapes) + " shape(s) with non-finite or degenerate parameters");
+    if (badIds) log.warn(std::to_string(badIds) + " material reference(s) out of range; using material 0");
+    return fix;
+}
+
+Bounds3f Scene::bounds() const {
+    Bounds3f b;
+    for (const auto& s : spheres) b.extend(penumbra::bounds(s));
+    for (const auto& s : boxes) b.extend(penumbra::bounds(s));
+    for (const auto& s : rectangles) b.extend(penumbra::bounds(s));
+    for (const auto& s : disks) b.extend(penumbra::bounds(s));
+    for (const auto& m : meshes)
+        for (uint32_t i : m.indices) b.extend(m.positions[i]);
+    return b;
+}
+
+size_t Scene::triangleCount() const {
+    size_t n = 0;
+    for (const auto& m : meshes) n += m.triangleCount();
+    return n;
+}
+
+size_t Scene::primitiveCount() const {
+    return triangleCount() + spheres.size() + planes.size() + boxes.size() + rectangles.size() + disks.size();
+}
+
+Hit Scene::completeHit(const Ray& ray, PrimRef ref, float t, float u, float v) const {
+    Hit h;
+    h.t = t;
+    h.ref = ref;
+    switch (ref.kind) {
+        case ShapeKind::Mesh: {
+            const TriangleMesh& m = meshes[ref.object];
+            const uint32_t* idx = &m.indices[3 * ref.prim];
+            const Vec3f &p0 = m.positions[idx[0]], &p1 = m.positions[idx[1]], &p2 = m.positions[idx[2]];
+            const float w = 1.f - u - v;
+            h.p = w * p0 + u * p1 + v * p2;
+            h.ng = normalize(cross(p1 - p0, p2 - p0));
+            h.ns = h.ng;
+            if (!m.normals.empty()) {
+                Vec3f n = normalize(w * m.normals[idx[0]] + u * m.normals[idx[1]] + v * m.normals[idx[2]]);
+                if (lengthSquared(n) > 0.f) h.ns = dot(n, h.ng) < 0.f ? -n : n;
+            }
+            if (!m.uvs.empty()) {
+                const Vec2f &a = m.uvs[idx[0]], &b = m.uvs[idx[1]], &c = m.uvs[idx[2]];
+                h.uv = {w * a.x + u * b.x + v * c.x, w * a.y + u * b.y + v * c.y};
+            } else {
+                h.uv = {u, v};
+            }
+            h.material = m.materialOf(ref.prim);
+            return h;
+        }
+        case ShapeKind::Sphere: {
+            const Sphere& s = spheres[ref.object];
+            Vec3f n = normalize(ray.o + t * ray.d - s.center);
+            // Re-project onto the surface: the error is then relative to the
+            // sphere's own coordinates, not to the distance travelled.
+            h.p = s.center + s.radius * n;
+            h.ng = h.ns = n;
+            h.uv = {std::atan2(n.z, n.x) * kInv2Pi + 0.5f, std::acos(std::clamp(n.y, -1.f, 1.f)) * kInvPi};
+            h.material = s.material;
+            return h;
+        }
+        case ShapeKind::Plane: {
+            const Plane& pl = planes[ref.object];
+            Vec3f p = ray.o + t * ray.d;
+            h.p = p - dot(p - pl.point, pl.normal) * pl.normal;
+            h.ng = h.ns = pl.normal;
+            Frame f = Frame::fromNormal(pl.normal);
+            Vec3f d = h.p - pl.point;
+            h.uv = {dot(d, f.s), dot(d, f.t)};
+            h.material = pl.material;
+            return h;
+        }
+        case ShapeKind::Box: {
+            const Box& b = boxes[ref.object];
+            Vec3f po = b.objectFromWorld.applyPoint(ray.o) + t * b.objectFromWorld.applyVector(ray.d);
+            // The face is the slab whose plane the point lies closest to
+            // (relative to the box size); snap the point onto it.
+            Vec3f ext = max(b.hi - b.lo, Vec3f(1e-30f));
+            int axis = 0;
+            bool upper = false;
+            float best = kInfinity;
+            for (int i = 0; i < 3; ++i) {
+                float dl = std::fabs(po[i] - b.lo[i]) / ext[i];
+                float dh = std::fabs(po[i] - b.hi[i]) / ext[i];
+                if (dl < best) { best = dl; axis = i; upper = false; }
+                if (dh < best) { best = dh; axis = i; upper = true; }
+            }
+            po[axis] = upper ? b.hi[axis] : b.lo[axis];
+            Vec3f no{};
+            no[axis] = upper ? 1.f : -1.f;
+            h.p = b.worldFromObject.applyPoint(po);
+            h.ng = h.ns = normalize(b.worldFromObject.applyNormal(no));
+            int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+            h.uv = {(po[a1] - b.lo[a1]) / ext[a1], (po[a2] - b.lo[a2]) / ext[a2]};
+            h.material = b.material;
+            return h;
+        }
+        case ShapeKind::Rectangle: {
+            const Rectangle& q = rectangles[ref.object];
+            h.p = q.p0 + u * q.a + v * q.b;
+            h.ng = h.ns = rectangleNormal(q);
+            h.uv = {u, v};
+            h.material = q.material;
+            return h;
+        }
+        case ShapeKind::Disk: {
+            const Disk& d = disks[ref.object];
+            Frame f = Frame::fromNormal(d.normal);
+            h.p = d.center + d.radius * (u * f.s + v * f.t);
+            h.ng = h.ns = d.normal;
+            h.uv = {0.5f + 0.5f * u, 0.5f + 0.5f * v};
+            h.material = d.material;
+            return h;
+        }
+    }
+    return h;
+}
+
+}  // namespace penumbra

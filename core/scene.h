@@ -1,0 +1,75 @@
+// The scene: plain arrays of shapes, meshes, materials and light descriptions.
+// Built by loaders or in code, then finalize()d once; afterwards it is
+// immutable and shared read-only by accelerators, lights and the integrator.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/color.h"
+#include "core/hit.h"
+#include "core/log.h"
+#include "core/material.h"
+#include "core/mesh.h"
+#include "core/ray.h"
+#include "core/shapes.h"
+
+namespace penumbra {
+
+/// Isotropic point light: intensity I (W/sr per channel); irradiance I cos / d^2.
+struct PointLight {
+    Vec3f position;
+    Rgb intensity{1.f};
+};
+
+/// Directional light arriving along `direction` (the direction light travels)
+/// with irradiance E on a surface facing it.
+struct DirectionalLight {
+    Vec3f direction{0.f, -1.f, 0.f};
+    Rgb irradiance{1.f};
+};
+
+/// Counts of what finalize() repaired or dropped.
+struct SceneFixups {
+    size_t droppedTriangles = 0;  // bad indices, non-finite or degenerate (zero-area) vertices
+    size_t droppedShapes = 0;     // analytic shapes with non-finite or degenerate parameters
+};
+
+class Scene {
+public:
+    std::vector<Material> materials;
+    std::vector<Sphere> spheres;
+    std::vector<Plane> planes;
+    std::vector<Box> boxes;
+    std::vector<Rectangle> rectangles;
+    std::vector<Disk> disks;
+    std::vector<TriangleMesh> meshes;
+    std::vector<PointLight> pointLights;
+    std::vector<DirectionalLight> directionalLights;
+    std::vector<std::string> textures;  // resolved image paths, indexed by Material::diffuseTexture
+    Rgb ambient{0.f};                   // global ambient light La
+    Rgb background{0.f};                // radiance of rays that leave the scene
+
+    /// Validates and repairs the scene so that every accelerator sees exactly
+    /// the same primitives: drops triangles with out-of-range indices,
+    /// non-finite or zero-area vertices, drops analytic shapes with non-finite
+    /// or degenerate parameters, normalises plane/disk normals, clamps material
+    /// ids, and drops mesh normals/UVs whose count does not match the vertices.
+    /// Each kind of repair is logged once with its count. A scene without
+    /// materials gets the default grey one. Idempotent.
+    SceneFixups finalize(const Logger& log);
+
+    /// Bounds of all finite geometry (planes excluded).
+    Bounds3f bounds() const;
+
+    /// Turns an accelerator's thin answer into a full Hit. Both accelerators
+    /// call this, so their hits are identical given the same (ref, t, u, v).
+    Hit completeHit(const Ray& ray, PrimRef ref, float t, float u, float v) const;
+
+    size_t triangleCount() const;
+    size_t primitiveCount() const;
+    const Material& material(uint32_t id) const { return materials[id]; }
+};
+
+}  // namespace penumbra

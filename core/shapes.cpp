@@ -1,0 +1,222 @@
+#include "core/shapes.h"
+
+#include "core/sampling.h"
+
+namespace penumbra {
+namespace {
+
+inline bool inRange(float t, const Ray& r) { return t > r.tnear && t <= r.tfar; }
+
+// Hit of a ray with the plane dot(x - p, n) = 0; nullopt when (nearly) parallel.
+inline std::optional<float> planeT(const Vec3f& p, const Vec3f& n, const Ray& r) {
+    float denom = dot(r.d, n);
+    if (!(std::fabs(denom) > 0.f)) return std::nullopt;
+    float t = dot(p - r.o, n) / denom;
+    if (!std::isfinite(t)) return std::nullopt;
+    return t;
+}
+
+}  // namespace
+
+Box makeBox(const Vec3f& lo, const Vec3f& hi, const Transform& worldFromObject, uint32_t material) {
+    Box b;
+    b.lo = lo;
+    b.hi = hi;
+    b.worldFromObject = worldFromObject;
+    if (!worldFromObject.inverse(b.objectFromWorld)) {
+        // A singular transform flattens the box to nothing visible; an
+        // inverted (empty) slab makes every test miss instead of producing NaN.
+        b.lo = Vec3f(1.f);
+        b.hi = Vec3f(-1.f);
+    }
+    b.material = material;
+    return b;
+}
+
+std::optional<PrimHit> intersect(const Sphere& s, const Ray& r) {
+    if (!(s.radius > 0.f)) return std::nullopt;
+    // Discriminant in the geometric form (Hearn & Baker; Haines et al., Ray
+    // Tracing Gems ch. 7): far more accurate than b^2 - 4ac when the sphere is
+    // small relative to its distance from the ray origin.
+    Vec3f f = r.o - s.center;
+    float a = dot(r.d, r.d);
+    float b = dot(f, r.d);  // half of the usual b
+    float c = dot(f, f) - s.radius * s.radius;
+    Vec3f l = f - (b / a) * r.d;
+    float disc = a * (s.radius * s.radius - dot(l, l));
+    if (disc < 0.f) return std::nullopt;
+    float q = -(b + std::copysign(std::sqrt(disc), b));
+    float t0, t1;
+    if (q == 0.f) {
+        t0 = t1 = -b / a;
+    } else {
+        t0 = q / a;
+        t1 = c / q;
+    }
+    if (t0 > t1) std::swap(t0, t1);
+    if (inRange(t0, r)) return PrimHit{t0, 0.f, 0.f};
+    if (inRange(t1, r)) return PrimHit{t1, 0.f, 0.f};
+    return std::nullopt;
+}
+
+std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
+    if (!p.twoSided && dot(r.d, p.normal) >= 0.f) return std::nullopt;
+    auto t = planeT(p.point, p.normal, r);
+    if (!t || !inRange(*t, r)) return std::nullopt;
+    return PrimHit{*t, 0.f, 0.f};
+}
+
+std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
+    // Slab test in object space. The direction is transformed but not
+    // normalised, so t is the same parameter in both spaces.
+    Vec3f o = b.objectFromWorld.applyPoint(r.o);
+    Vec3f d = b.objectFromWorld.applyVector(r.d);
+    float t0 = r.tnear, t1 = r.tfar;
+    float tEnter = -kInfinity, tExit = kInfinity;
+    for (int i = 0; i < 3; ++i) {
+        if (b.lo[i] > b.hi[i]) return std::nullopt;
+        if (d[i] == 0.f) {
+            if (o[i] < b.lo[i] || o[i] > b.hi[i]) return std::nullopt;
+            continue;
+        }
+        float inv = 1.f / d[i];
+        float tn = (b.lo[i] - o[i]) * inv;
+        float tf = (b.hi[i] - o[i]) * inv;
+        if (tn > tf) std::swap(tn, tf);
+        tEnter = std::max(tEnter, tn);
+        tExit = std::min(tExit, tf);
+    }
+    if (tEnter > tExit) return std::nullopt;
+    if (tEnter > t0 && tEnter <= t1) return PrimHit{tEnter, 0.f, 0.f};
+    if (tExit > t0 && tExit <= t1) return PrimHit{tExit, 0.f, 0.f};
+    return std::nullopt;
+}
+
+std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r) {
+    Vec3f n = cross(q.a, q.b);
+    float nn = dot(n, n);
+    if (!(nn > 0.f)) return std::nullopt;
+    auto t = planeT(q.p0, n, r);
+    if (!t || !inRange(*t, r)) return std::nullopt;
+    Vec3f d = (r.o + *t * r.d) - q.p0;
+    // Coordinates in the (a, b) basis; exact for parallelograms, not only rectangles.
+    float s = dot(cross(d, q.b), n) / nn;
+    float u = dot(cross(q.a, d), n) / nn;
+    if (s < 0.f || s > 1.f || u < 0.f || u > 1.f) return std::nullopt;
+    return PrimHit{*t, s, u};
+}
+
+std::optional<PrimHit> intersect(const Disk& k, const Ray& r) {
+    if (!(k.radius > 0.f)) return std::nullopt;
+    auto t = planeT(k.center, k.normal, r);
+    if (!t || !inRange(*t, r)) return std::nullopt;
+    Vec3f d = (r.o + *t * r.d) - k.center;
+    if (dot(d, d) > k.radius * k.radius) return std::nullopt;
+    Frame f = Frame::fromNormal(k.normal);
+    return PrimHit{*t, dot(d, f.s) / k.radius, dot(d, f.t) / k.radius};
+}
+
+std::optional<PrimHit> intersectTriangle(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, const Ray& r) {
+    // Watertight test: translate to the ray origin, permute so that z is the
+    // dominant direction axis, shear so the ray is +z, then evaluate the 2D
+    // edge functions (falling back to double where they are exactly zero).
+    Vec3f a0 = p0 - r.o, a1 = p1 - r.o, a2 = p2 - r.o;
+    int kz = maxDimension(abs(r.d));
+    int kx = kz + 1 == 3 ? 0 : kz + 1;
+    int ky = kx + 1 == 3 ? 0 : kx + 1;
+    Vec3f d{r.d[kx], r.d[ky], r.d[kz]};
+    a0 = {a0[kx], a0[ky], a0[kz]};
+    a1 = {a1[kx], a1[ky], a1[kz]};
+    a2 = {a2[kx], a2[ky], a2[kz]};
+    float sx = -d.x / d.z, sy = -d.y / d.z, sz = 1.f / d.z;
+    a0.x += sx * a0.z;
+    a0.y += sy * a0.z;
+    a1.x += sx * a1.z;
+    a1.y += sy * a1.z;
+    a2.x += sx * a2.z;
+    a2.y += sy * a2.z;
+    float e0 = a1.x * a2.y - a1.y * a2.x;
+    float e1 = a2.x * a0.y - a2.y * a0.x;
+    float e2 = a0.x * a1.y - a0.y * a1.x;
+    if (e0 == 0.f || e1 == 0.f || e2 == 0.f) {
+        e0 = static_cast<float>(double(a1.x) * a2.y - double(a1.y) * a2.x);
+        e1 = static_cast<float>(double(a2.x) * a0.y - double(a2.y) * a0.x);
+        e2 = static_cast<float>(double(a0.x) * a1.y - double(a0.y) * a1.x);
+    }
+    if ((e0 < 0.f || e1 < 0.f || e2 < 0.f) && (e0 > 0.f || e1 > 0.f || e2 > 0.f)) return std::nullopt;
+    float det = e0 + e1 + e2;
+    if (det == 0.f) return std::nullopt;
+    a0.z *= sz;
+    a1.z *= sz;
+    a2.z *= sz;
+    float tScaled = e0 * a0.z + e1 * a1.z + e2 * a2.z;
+    float invDet = 1.f / det;
+    float t = tScaled * invDet;
+    if (!std::isfinite(t) || !inRange(t, r)) return std::nullopt;
+    return PrimHit{t, e1 * invDet, e2 * invDet};
+}
+
+Bounds3f bounds(const Sphere& s) {
+    Bounds3f b;
+    b.extend(s.center - Vec3f(s.radius));
+    b.extend(s.center + Vec3f(s.radius));
+    return b;
+}
+
+Bounds3f bounds(const Box& bx) {
+    Bounds3f b;
+    if (bx.lo.x > bx.hi.x || bx.lo.y > bx.hi.y || bx.lo.z > bx.hi.z) return b;
+    for (int i = 0; i < 8; ++i) {
+        Vec3f c{(i & 1) ? bx.hi.x : bx.lo.x, (i & 2) ? bx.hi.y : bx.lo.y, (i & 4) ? bx.hi.z : bx.lo.z};
+        b.extend(bx.worldFromObject.applyPoint(c));
+    }
+    return b;
+}
+
+Bounds3f bounds(const Rectangle& q) {
+    Bounds3f b;
+    b.extend(q.p0);
+    b.extend(q.p0 + q.a);
+    b.extend(q.p0 + q.b);
+    b.extend(q.p0 + q.a + q.b);
+    return b;
+}
+
+Bounds3f bounds(const Disk& d) {
+    // Per axis, the disk extends r * sqrt(1 - n_i^2) from its centre.
+    Vec3f n = normalize(d.normal);
+    Vec3f e{d.radius * std::sqrt(std::max(0.f, 1.f - n.x * n.x)), d.radius * std::sqrt(std::max(0.f, 1.f - n.y * n.y)),
+            d.radius * std::sqrt(std::max(0.f, 1.f - n.z * n.z))};
+    Bounds3f b;
+    b.extend(d.center - e);
+    b.extend(d.center + e);
+    return b;
+}
+
+float area(const Sphere& s) { return 4.f * kPi * s.radius * s.radius; }
+float area(const Rectangle& q) { return length(cross(q.a, q.b)); }
+float area(const Disk& d) { return kPi * d.radius * d.radius; }
+float triangleArea(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2) { return 0.5f * length(cross(p1 - p0, p2 - p0)); }
+
+SurfaceSample sampleUniform(const Sphere& s, Vec2f u) {
+    Vec3f n = squareToUniformSphere(u);
+    return {s.center + s.radius * n, n, 1.f / area(s)};
+}
+
+SurfaceSample sampleUniform(const Rectangle& q, Vec2f u) {
+    return {q.p0 + u.x * q.a + u.y * q.b, rectangleNormal(q), 1.f / area(q)};
+}
+
+SurfaceSample sampleUniform(const Disk& d, Vec2f u) {
+    Vec2f c = squareToConcentricDisk(u);
+    Frame f = Frame::fromNormal(d.normal);
+    return {d.center + d.radius * (c.x * f.s + c.y * f.t), d.normal, 1.f / area(d)};
+}
+
+SurfaceSample sampleTriangle(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, Vec2f u) {
+    Vec2f b = squareToTriangle(u);
+    Vec3f p = (1.f - b.x - b.y) * p0 + b.x * p1 + b.y * p2;
+    return {p, normalize(cross(p1 - p0, p2 - p0)), 1.f / triangleArea(p0, p1, p2)};
+}
+
+}  // namespace penumbra

@@ -1,0 +1,109 @@
+// Analytic shapes: plain data, exact intersection and uniform area sampling.
+// These routines know nothing of Embree; the Embree user geometries and the
+// naive accelerator call the very same functions, so they cannot drift apart.
+//
+// Intersections report t in the half-open interval (ray.tnear, ray.tfar], the
+// interval Embree's own triangle test uses.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "core/math.h"
+#include "core/ray.h"
+#include "core/transform.h"
+
+namespace penumbra {
+
+/// The parametric result of a shape test: distance and two surface
+/// coordinates whose meaning depends on the shape (documented per shape).
+struct PrimHit {
+    float t;
+    float u, v;
+};
+
+/// Sphere; front side faces outwards. Hit (u, v) unused (computed from the point).
+struct Sphere {
+    Vec3f center;
+    float radius = 1.f;
+    uint32_t material = 0;
+};
+
+/// Infinite plane through point with unit normal; front = the side the normal faces.
+/// A one-sided plane is invisible from behind (rays from its back pass through).
+/// Hit (u, v) unused.
+struct Plane {
+    Vec3f point;
+    Vec3f normal{0.f, 1.f, 0.f};
+    bool twoSided = true;
+    uint32_t material = 0;
+};
+
+/// Box: axis-aligned [lo, hi] in object space, placed by worldFromObject
+/// (identity for an axis-aligned box). Faces face outwards. Hit (u, v) unused.
+struct Box {
+    Vec3f lo{-1.f, -1.f, -1.f};
+    Vec3f hi{1.f, 1.f, 1.f};
+    Transform worldFromObject;
+    Transform objectFromWorld;  // kept in sync by makeBox()
+    uint32_t material = 0;
+};
+Box makeBox(const Vec3f& lo, const Vec3f& hi, const Transform& worldFromObject = Transform(), uint32_t material = 0);
+
+/// Parallelogram p0 + s*a + t*b, s,t in [0,1] (the lecture's Rectangle).
+/// Front side faces cross(a, b). Hit (u, v) = (s, t).
+struct Rectangle {
+    Vec3f p0;
+    Vec3f a{1.f, 0.f, 0.f};
+    Vec3f b{0.f, 0.f, 1.f};
+    uint32_t material = 0;
+};
+
+/// Disk; front side faces normal. Hit (u, v) = the point's offset from the
+/// centre along the disk's frame s and t axes, divided by the radius.
+struct Disk {
+    Vec3f center;
+    Vec3f normal{0.f, 1.f, 0.f};
+    float radius = 1.f;
+    uint32_t material = 0;
+};
+
+std::optional<PrimHit> intersect(const Sphere& s, const Ray& r);
+std::optional<PrimHit> intersect(const Plane& p, const Ray& r);
+std::optional<PrimHit> intersect(const Box& b, const Ray& r);
+std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r);
+std::optional<PrimHit> intersect(const Disk& d, const Ray& r);
+
+/// Watertight ray/triangle test (Woop, Benthin & Wald 2013): rays through a
+/// shared edge or vertex hit at least one of the triangles sharing it.
+/// (u, v) are the barycentrics of p1 and p2: p = (1-u-v) p0 + u p1 + v p2.
+std::optional<PrimHit> intersectTriangle(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, const Ray& r);
+
+/// World-space bounds (finite shapes only).
+Bounds3f bounds(const Sphere& s);
+Bounds3f bounds(const Box& b);
+Bounds3f bounds(const Rectangle& q);
+Bounds3f bounds(const Disk& d);
+
+float area(const Sphere& s);
+float area(const Rectangle& q);
+float area(const Disk& d);
+float triangleArea(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2);
+
+/// A point sampled on a surface, with its unit normal and the pdf with
+/// respect to area (1 / area for uniform sampling).
+struct SurfaceSample {
+    Vec3f p;
+    Vec3f n;
+    float pdfArea;
+};
+
+SurfaceSample sampleUniform(const Sphere& s, Vec2f u);
+SurfaceSample sampleUniform(const Rectangle& q, Vec2f u);
+SurfaceSample sampleUniform(const Disk& d, Vec2f u);
+SurfaceSample sampleTriangle(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, Vec2f u);
+
+/// Unit normal of the front side.
+inline Vec3f rectangleNormal(const Rectangle& q) { return normalize(cross(q.a, q.b)); }
+
+}  // namespace penumbra

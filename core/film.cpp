@@ -1,0 +1,51 @@
+#include "core/film.h"
+
+namespace penumbra {
+
+Film::Film(int fullWidth, int fullHeight, CropWindow window, bool aovs)
+    : fullWidth_(fullWidth), fullHeight_(fullHeight), window_(window) {
+    const size_t n = size_t(width()) * size_t(height());
+    sum_.assign(3 * n, 0.0);
+    if (aovs) {
+        albedo_.assign(n, Rgb{});
+        normal_.assign(n, Vec3f{});
+        depth_.assign(n, 0.f);
+    }
+}
+
+uint64_t Film::bytesNeeded(int64_t pixels, bool aovs) {
+    uint64_t per = 3 * sizeof(double) + (aovs ? sizeof(Rgb) + sizeof(Vec3f) + sizeof(float) : 0);
+    return uint64_t(pixels) * per;
+}
+
+Rgb Film::radiance(size_t i) const {
+    if (samples_ == 0) return {};
+    double inv = 1.0 / samples_;
+    return {float(sum_[3 * i] * inv), float(sum_[3 * i + 1] * inv), float(sum_[3 * i + 2] * inv)};
+}
+
+Rgb Film::albedo(size_t i) const { return samples_ ? albedo_[i] / float(samples_) : Rgb{}; }
+Vec3f Film::normal(size_t i) const { return samples_ ? normal_[i] / float(samples_) : Vec3f{}; }
+float Film::depth(size_t i) const { return samples_ ? depth_[i] / float(samples_) : 0.f; }
+
+std::vector<float> Film::radianceBuffer(int channels) const {
+    const size_t n = size_t(width()) * size_t(height());
+    std::vector<float> out(n * size_t(channels), 1.f);
+    for (size_t i = 0; i < n; ++i) {
+        Rgb L = radiance(i);
+        out[i * channels] = L.r;
+        out[i * channels + 1] = L.g;
+        out[i * channels + 2] = L.b;
+    }
+    return out;
+}
+
+void Film::clear() {
+    std::fill(sum_.begin(), sum_.end(), 0.0);
+    std::fill(albedo_.begin(), albedo_.end(), Rgb{});
+    std::fill(normal_.begin(), normal_.end(), Vec3f{});
+    std::fill(depth_.begin(), depth_.end(), 0.f);
+    samples_ = 0;
+}
+
+}  // namespace penumbra

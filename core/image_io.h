@@ -1,0 +1,61 @@
+// Writing the film (and reading images back, for tests and tools) through
+// OpenImageIO; this is the only file that includes it besides textures.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/film.h"
+
+namespace penumbra {
+
+enum class ImageFormat { Exr, Hdr, Pfm, Png, Jpg, Tif };
+
+/// Format from the file extension (case-insensitive); throws
+/// Error(InvalidArgument) naming the file for an unknown extension.
+ImageFormat imageFormatFromPath(const std::filesystem::path& path);
+/// True for formats that store linear floats (EXR, HDR, PFM).
+bool isFloatFormat(ImageFormat f);
+
+struct ImageMetadata {
+    int spp = 0;
+    uint64_t seed = 0;
+    double renderSeconds = 0.0;
+    std::string software;
+};
+
+struct ImageWriteOptions {
+    float exposure = 0.f;  // stops; LDR formats only (float formats are written exactly as computed)
+    bool aovs = false;     // EXR: extra channels; other formats: a sibling <stem>.aovs.exr
+    ImageMetadata metadata;
+};
+
+/// Writes the film's averaged radiance. Float formats get the linear values
+/// unchanged; PNG/JPG/TIF are exposure-scaled, sRGB-encoded and clamped to
+/// 8 bits. The image is written to a temporary file in the target folder and
+/// renamed into place, so a failure never leaves a partial image behind.
+/// Throws Error(IoError) naming the file.
+void writeImage(const std::filesystem::path& path, const Film& film, const ImageWriteOptions& options);
+
+/// Throws Error(InvalidArgument/IoError) if `path` cannot be written (folder
+/// missing or not writable, unknown format). Used to check options before rendering.
+void checkWritable(const std::filesystem::path& path);
+
+/// An image read back as floats (linear for float formats, 0..1 for 8-bit ones).
+struct ImageData {
+    int width = 0, height = 0, channels = 0;
+    std::vector<std::string> channelNames;
+    std::vector<float> pixels;  // interleaved, row 0 on top
+    std::vector<std::pair<std::string, std::string>> attributes;
+    float at(int x, int y, int c) const { return pixels[(size_t(y) * width + x) * channels + c]; }
+};
+/// Throws Error(IoError) naming the file.
+ImageData readImage(const std::filesystem::path& path);
+
+/// sRGB transfer function (linear -> encoded), for values in [0, 1].
+float linearToSrgb(float v);
+float srgbToLinear(float v);
+
+}  // namespace penumbra

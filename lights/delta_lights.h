@@ -1,0 +1,34 @@
+// Point and directional lights: no area, no pdf; always sampled exactly.
+#pragma once
+
+#include "core/scene.h"
+#include "lights/light.h"
+
+namespace penumbra {
+
+class PointLightSource final : public Light {
+public:
+    explicit PointLightSource(const PointLight& l) : light_(l) {}
+    std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
+    Rgb power() const override { return light_.intensity * (4.f * kPi); }
+    bool isDelta() const override { return true; }
+
+private:
+    PointLight light_;
+};
+
+class DirectionalLightSource final : public Light {
+public:
+    /// sceneRadius: radius of the scene's bounding sphere, for power().
+    DirectionalLightSource(const DirectionalLight& l, float sceneRadius);
+    std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
+    Rgb power() const override { return light_.irradiance * (kPi * radius_ * radius_); }
+    bool isDelta() const override { return true; }
+
+private:
+    DirectionalLight light_;
+    Vec3f toLight_;
+    float radius_;
+};
+
+}  // namespace penumbra

@@ -1,0 +1,33 @@
+// Light interface. Area lights are built from the scene's emissive shapes, so
+// emitters are also ordinary geometry that camera and mirror rays see.
+#pragma once
+
+#include <optional>
+
+#include "core/color.h"
+#include "core/math.h"
+
+namespace penumbra {
+
+/// One light sample as seen from a shading point.
+struct LightSample {
+    Rgb L;             // radiance arriving along -wi (area) or I/d^2 / E (delta lights)
+    Vec3f wi;          // unit direction from the shading point towards the light
+    Vec3f point;       // sampled point on the light (unused for directional lights)
+    float distance;    // to `point`; infinity for directional lights
+    float pdf;         // solid-angle pdf for area lights; 1 for delta lights
+    bool delta;        // point / directional: no pdf, no area
+};
+
+class Light {
+public:
+    virtual ~Light() = default;
+    /// Samples the light from shading point p with u in [0,1)^2. nullopt when
+    /// the sample carries nothing (back side of a one-sided emitter, zero pdf).
+    virtual std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const = 0;
+    /// Total emitted power (for power-proportional light selection).
+    virtual Rgb power() const = 0;
+    virtual bool isDelta() const { return false; }
+};
+
+}  // namespace penumbra

@@ -1,0 +1,79 @@
+#include "lights/light_set.h"
+
+#include <algorithm>
+#include <map>
+
+#include "lights/area_light.h"
+#include "lights/delta_lights.h"
+
+namespace penumbra {
+
+LightSet::LightSet(const Scene& scene) {
+    const auto emissive = [&](uint32_t mat) { return scene.materials[mat].isEmissive(); };
+    for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
+        if (emissive(scene.rectangles[i].material)) {
+            auto l = std::make_unique<ShapeAreaLight>(scene, ShapeAreaLight::Kind::Rectangle, i);
+            totalArea_ += l->area();
+            lights_.push_back(std::move(l));
+        }
+    for (uint32_t i = 0; i < scene.disks.size(); ++i)
+        if (emissive(scene.disks[i].material)) {
+            auto l = std::make_unique<ShapeAreaLight>(scene, ShapeAreaLight::Kind::Disk, i);
+            totalArea_ += l->area();
+            lights_.push_back(std::move(l));
+        }
+    for (uint32_t i = 0; i < scene.spheres.size(); ++i)
+        if (emissive(scene.spheres[i].material)) {
+            auto l = std::make_unique<ShapeAreaLight>(scene, ShapeAreaLight::Kind::Sphere, i);
+            totalArea_ += l->area();
+            lights_.push_back(std::move(l));
+        }
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene.meshes[m];
+        std::map<uint32_t, std::vector<uint32_t>> byMaterial;  // ordered: deterministic light order
+        for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+            uint32_t mat = mesh.materialOf(t);
+            if (!emissive(mat)) continue;
+            Vec3f p0, p1, p2;
+            mesh.vertices(t, p0, p1, p2);
+            if (triangleArea(p0, p1, p2) > 0.f) byMaterial[mat].push_back(t);
+        }
+        for (auto& [mat, tris] : byMaterial) {
+            auto l = std::make_unique<MeshAreaLight>(scene, m, mat, std::move(tris));
+            if (!(l->area() > 0.f)) continue;
+            totalArea_ += l->area();
+            lights_.push_back(std::move(l));
+        }
+    }
+    areaLights_ = lights_.size();
+
+    const Bounds3f b = scene.bounds();
+    const float radius = b.empty() ? 1.f : 0.5f * length(b.diagonal());
+    for (const auto& p : scene.pointLights) lights_.push_back(std::make_unique<PointLightSource>(p));
+    for (const auto& d : scene.directionalLights) lights_.push_back(std::make_unique<DirectionalLightSource>(d, radius));
+
+    double acc = 0.0;
+    for (const auto& l : lights_) {
+        acc += std::max(0.f, l->power().average());
+        powerCdf_.push_back(static_cast<float>(acc));
+    }
+    if (acc > 0.0) {
+        for (float& c : powerCdf_) c = static_cast<float>(c / acc);
+    } else {
+        // No power anywhere: fall back to uniform selection.
+        for (size_t i = 0; i < powerCdf_.size(); ++i) powerCdf_[i] = float(i + 1) / float(powerCdf_.size());
+    }
+    if (!powerCdf_.empty()) powerCdf_.back() = 1.f;
+}
+
+LightSet::Pick LightSet::pickByPower(float u) const {
+    size_t i = std::upper_bound(powerCdf_.begin(), powerCdf_.end(), u) - powerCdf_.begin();
+    i = std::min(i, powerCdf_.size() - 1);
+    // Skip zero-probability entries that upper_bound can land on at the ends.
+    float lo = i ? powerCdf_[i - 1] : 0.f;
+    float prob = powerCdf_[i] - lo;
+    float remapped = prob > 0.f ? std::clamp((u - lo) / prob, 0.f, 0x1.fffffep-1f) : 0.5f;
+    return {i, prob, remapped};
+}
+
+}  // namespace penumbra

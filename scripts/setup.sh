@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs Penumbra's build dependencies from Debian 12 packages.
+# Idempotent: when everything is present it only checks (about a second).
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libembree-dev libtbb-dev libopenimageio-dev libtinyobjloader-dev
+  libgtest-dev libcli11-dev nlohmann-json3-dev
+  gnuplot-nox
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  # dpkg-query reports "install ok installed" only for fully installed packages.
+  status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$p")
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  exit 0
+fi
+
+echo "setup: missing packages: ${missing[*]}" >&2
+if [[ $(id -u) -ne 0 ]]; then
+  echo "setup: error: installing packages needs root; run as root or: sudo apt-get install ${missing[*]}" >&2
+  exit 1
+fi
+
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -q
+apt-get install -y -q --no-install-recommends "${missing[@]}"
+echo "setup: installed ${missing[*]}" >&2

@@ -1,0 +1,111 @@
+#include "shading/integrator.h"
+
+#include "core/multi_jitter.h"
+#include "core/texture_cache.h"
+#include "shading/phong.h"
+
+namespace penumbra {
+Integrator::Integrator(const Scene& scene, const Accelerator& accel, const LightSet& lights,
+                       const TextureCache* textures, const RenderSettings& settings)
+    : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings) {}
+
+Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit) const {
+    if (m.diffuseTexture < 0 || !textures_) return m.kd;
+    return m.kd * textures_->lookup(m.diffuseTexture, hit.uv, 0.f);
+}
+
+Rgb Integrator::directLight(const Hit& hit, const Material& m, const Rgb& kd, const Vec3f& ng, const Vec3f& ns,
+                            const Vec3f& wo, const SampleKey& key, int depth, RayCounts& counts) const {
+    const size_t nLights = lights_.size();
+    if (nLights == 0) return {};
+    if (kd.isBlack() && m.ks.isBlack()) return {};
+    const uint32_t n = static_cast<uint32_t>(settings_.lightSamples);
+    const uint64_t dimBase = kFirstLightDimension + uint64_t(depth) * (nLights + 1);
+
+    // One light sample: f * L * cos / pdf * V (the cosine and f live in phongResponse).
+    auto contribution = [&](const Light& light, const LightSample& ls) -> Rgb {
+        if (dot(ls.wi, ng) <= 0.f) return {};  // below the geometric surface
+        Rgb f = phongResponse(m, kd, ns, wo, ls.wi, ls.delta);
+        if (f.isBlack()) return {};
+        Ray shadow = std::isinf(ls.distance) ? spawnRay(hit.p, ng, ls.wi) : spawnRayTo(hit.p, ng, ls.point);
+        ++counts.shadow;
+        if (accel_.occluded(shadow)) return {};
+        (void)light;
+        return f * ls.L / ls.pdf;
+    };
+
+    Rgb sum;
+    if (settings_.lightSelection == LightSelection::All) {
+        for (size_t j = 0; j < nLights; ++j) {
+            const Light& light = lights_[j];
+            if (light.isDelta()) {
+                if (auto ls = light.sample(hit.p, Vec2f{0.5f, 0.5f})) sum += contribution(light, *ls);
+                continue;
+            }
+            const uint32_t pattern = mjPattern(key.seed, key.pixel, key.index, dimBase + j);
+            Rgb acc;
+            for (uint32_t k = 0; k < n; ++k) {
+                if (auto ls = light.sample(hit.p, multiJitter2D(k, n, pattern))) acc += contribution(light, *ls);
+            }
+            sum += acc / float(n);
+        }
+        return sum;
+    }
+    // Power-proportional selection: n samples in total, each picks one light.
+    const uint32_t pattern = mjPattern(key.seed, key.pixel, key.index, dimBase + nLights);
+    const uint32_t pickPattern = mjPattern(key.seed, key.pixel, key.index, dimBase + nLights + 0x9e37ULL);
+    Rgb acc;
+    for (uint32_t k = 0; k < n; ++k) {
+        Vec2f pickU = multiJitter2D(k, n, pickPattern);
+        LightSet::Pick pick = lights_.pickByPower(pickU.x);
+        if (!(pick.probability > 0.f)) continue;
+        const Light& light = lights_[pick.index];
+        if (auto ls = light.sample(hit.p, multiJitter2D(k, n, pattern))) acc += contribution(light, *ls) / pick.probability;
+    }
+    return acc / float(n);
+}
+
+Rgb Integrator::Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts, FirstHit* firstHit) const {
+    Rgb L;
+    Rgb throughput(1.f);
+    Ray ray = cameraRay;
+    ++counts.camera;
+    for (int depth = 0;; ++depth) {
+        auto hit = accel_.intersect(ray);
+        if (!hit) {
+            L += throughput * scene_.background;
+            break;
+        }
+        const Material& m = scene_.material(hit->material);
+        const Vec3f wo = -ray.d;
+        // Emission is one-sided: only the side the geometric normal faces emits.
+        const bool front = dot(wo, hit->ng) > 0.f;
+        if (m.isEmissive() && (front || m.twoSidedEmission)) L += throughput * m.ke;
+
+        // Shading is two-sided: flip both normals to the viewer's side.
+        const Vec3f ng = front ? hit->ng : -hit->ng;
+        const Vec3f ns = front ? hit->ns : -hit->ns;
+        const Rgb kd = diffuseAlbedo(m, *hit);
+        if (depth == 0 && firstHit) *firstHit = FirstHit{kd, ns, hit->t};
+
+        L += throughput * (m.ka * scene_.ambient);
+        L += throughput * directLight(*hit, m, kd, ng, ns, wo, key, depth, counts);
+
+        if (!m.isMirror() || depth >= settings_.maxDepth) break;
+        // r = d - 2(d.n)n about the shading normal; fall back to the geometric
+        // normal when smooth normals would send the ray below the surface.
+        Vec3f r = reflect(ray.d, ns);
+        if (dot(r, ng) <= 0.f) r = reflect(ray.d, ng);
+        throughput *= m.kr;
+        if (throughput.isBlack()) break;
+        ray = spawnRay(hit->p, ng, normalize(r));
+        ++counts.reflection;
+    }
+    if (!L.isFinite()) {
+        ++counts.nonFinite;
+        return {};
+    }
+    return L;
+}
+
+}  // namespace penumbra

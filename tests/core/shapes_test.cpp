@@ -1,0 +1,489 @@
+// Analytic shape and triangle tests: known hit distances, normals (through
+// Scene::completeHit, the one place normals are computed) and surface
+// coordinates; misses, grazing rays, the (tnear, tfar] interval, degenerate
+// inputs, and uniform area sampling.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <optional>
+
+#include "core/scene.h"
+#include "core/shapes.h"
+#include "core/transform.h"
+
+namespace penumbra {
+namespace {
+
+constexpr float kEps = 1e-5f;
+
+void expectVecNear(const Vec3f& a, const Vec3f& b, float eps = kEps) {
+    EXPECT_NEAR(a.x, b.x, eps);
+    EXPECT_NEAR(a.y, b.y, eps);
+    EXPECT_NEAR(a.z, b.z, eps);
+}
+
+Ray makeRay(Vec3f o, Vec3f d, float tnear = 0.f, float tfar = kInfinity) { return Ray{o, d, tnear, tfar}; }
+
+// A miss must not smuggle NaN into anything; a hit must be finite.
+void expectFiniteOrMiss(const std::optional<PrimHit>& h) {
+    if (!h) return;
+    EXPECT_TRUE(std::isfinite(h->t));
+    EXPECT_TRUE(std::isfinite(h->u));
+    EXPECT_TRUE(std::isfinite(h->v));
+}
+
+// ---------------------------------------------------------------- sphere
+
+TEST(SphereTest, HitFromOutsideGivesNearSideWithOutwardNormal) {
+    Scene scene;
+    scene.spheres.push_back(Sphere{{0.f, 0.f, 0.f}, 1.f, 0});
+    Ray r = makeRay({0.f, 0.f, -5.f}, {0.f, 0.f, 1.f});
+    auto h = intersect(scene.spheres[0], r);
+    ASSERT_TRUE(h);
+    EXPECT_FLOAT_EQ(h->t, 4.f);
+    Hit hit = scene.completeHit(r, PrimRef{ShapeKind::Sphere, 0, 0}, h->t, h->u, h->v);
+    expectVecNear(hit.p, {0.f, 0.f, -1.f});
+    expectVecNear(hit.ng, {0.f, 0.f, -1.f});
+    expectVecNear(hit.ns, {0.f, 0.f, -1.f});
+    // u = atan2(z, x) / 2pi + 1/2 = 1/4, v = acos(y) / pi = 1/2.
+    EXPECT_NEAR(hit.uv.x, 0.25f, kEps);
+    EXPECT_NEAR(hit.uv.y, 0.5f, kEps);
+}
+
+TEST(SphereTest, HitFromInsideGivesFarSideAndNormalStaysOutward) {
+    Scene scene;
+    scene.spheres.push_back(Sphere{{1.f, 2.f, 3.f}, 2.f, 0});
+    Ray r = makeRay({1.f, 2.f, 3.f}, {0.f, 1.f, 0.f});
+    auto h = intersect(scene.spheres[0], r);
+    ASSERT_TRUE(h);
+    EXPECT_FLOAT_EQ(h->t, 2.f);
+    Hit hit = scene.completeHit(r, PrimRef{ShapeKind::Sphere, 0, 0}, h->t, h->u, h->v);
+    expectVecNear(hit.p, {1.f, 4.f, 3.f});
+    expectVecNear(hit.ng, {0.f, 1.f, 0.f});  // front side, not flipped towards the ray
+    EXPECT_NEAR(hit.uv.y, 0.f, kEps);        // the north pole
+}
+
+TEST(SphereTest, NonUnitDirectionScalesT) {
+    Sphere s{{0.f, 0.f, 0.f}, 1.f, 0};
+    auto h = intersect(s, makeRay({0.f, 0.f, -5.f}, {0.f, 0.f, 2.f}));
+    ASSERT_TRUE(h);
+    EXPECT_FLOAT_EQ(h->t, 2.f);
+}
+
+TEST(SphereTest, MissesAndGrazing) {
+    Sphere s{{0.f, 0.f, 0.f}, 1.f, 0};
+    EXPECT_FALSE(intersect(s, makeRay({0.f, 2.f, -5.f}, {0.f, 0.f, 1.f})));
+    EXPECT_FALSE(intersect(s, makeRay({0.f, 0.f, -5.f}, {0.f, 0.f, -1.f})));  // sphere behind the ray
+    EXPECT_FALSE(intersect(s, makeRay({0.f, 1.0001f, -5.f}, {0.f, 0.f, 1.f})));
+    // Exactly tangent: one touching point at t = 5, normal along +y.
+    Scene scene;
+    scene.spheres.push_back(s);
+    Ray r = makeRay({0.f, 1.f, -5.f}, {0.f, 0.f, 1.f});
+    auto h = intersect(s, r);
+    ASSERT_TRUE(h);
+    EXPECT_NEAR(h->t, 5.f, 1e-4f);
+    Hit hit = scene.completeHit(r, PrimRef{ShapeKind::Sphere, 0, 0}, h->t, h->u, h->v);
+    expectVecNear(hit.ng, {0.f, 1.f, 0.f}, 1e-3f);
+}
+
+TEST(SphereTest, IntervalLimits) {
+    Sphere s{{0.f, 0.f, 0.f}, 1.f, 0};
+    const Vec3f o{0.f, 0.f, -5.f}, d{0.f, 0.f, 1.f};
+    // Hits at t = 4 and t = 6. tfar is inclusive, tnear exclusive.
+    auto atTfar = intersect(s, makeRay(o, d, 0.f, 4.f));
+    ASSERT_TRUE(atTfar);
+    EXPECT_FLOAT_EQ(atTfar->t, 4.f);
+    EXPECT_FALSE(intersect(s, makeRay(o, d, 0.f, std::nextafter(4.f, 0.f))));
+    EXPECT_FALSE(intersect(s, makeRay(o, d, 0.f, 3.f)));
+    auto pastNear = intersect(s, makeRay(o, d, 4.f, kInfinity));
+    ASSERT_TRUE(pastNear);
+    EXPECT_FLOAT_EQ(pastNear->t, 6.f);
+    auto between = intersect(s, makeRay(o, d, 4.5f, 10.f));
+    ASSERT_TRUE(between);
+    EXPECT_FLOAT_EQ(between->t, 6.f);
+    EXPECT_FALSE(intersect(s, makeRay(o, d, 6.f, 10.f)));
+    EXPECT_FALSE(intersect(s, makeRay(o, d, 4.5f, 5.5f)));
+}
+
+TEST(SphereTest, ZeroRadiusNeverHits) {
+    Sphere s{{0.f, 0.f, 0.f}, 0.f, 0};
+    auto h = intersect(s, makeRay({0.f, 0.f, -5.f}, {0.f, 0.f, 1.f}));
+    EXPECT_FALSE(h);
+    expectFiniteOrMiss(h);
+    EXPECT_FALSE(intersect(Sphere{{0.f, 0.f, 0.f}, -1.f, 0}, makeRay({0.f, 0.f, -5.f}, {0.f, 0.f, 1.f})));
+}
+
+TEST(SphereTest, SmallFarSphereIsAccurate) {
+    // The geometric discriminant keeps a small sphere far away accurate.
+    Sphere s{{0.f, 0.f, 1e4f}, 0.01f, 0};
+    auto h = intersect(s, makeRay({0.f, 0.f, 0.f}, {0.f, 0.f, 1.f}));
+    ASSERT_TRUE(h);
+    EXPECT_NEAR(h->t, 1e4f - 0.01f, 2e-3f);
+}
+
+// ---------------------------------------------------------------- plane
+
+TEST(PlaneTest, HitFromFrontAndBackWhenTwoSided) {
+    Scene scene;
+    scene.planes.push_back(Plane{{0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, true, 0});
+    Ray down = makeRay({1.f, 2.f, 3.f}, {0.f, -1.f, 0.f});
+    auto h = intersect(scene.planes[0], down);
+    ASSERT_TRUE(h);
+    EXPECT_FLOAT_EQ(h->t, 2.f);
+    Hit hit = scene.completeHit(down, PrimRef{ShapeKind::Plane, 0, 0}, h->t, h->u, h->v);
+    expectVecNear(hit.p, {1.f, 0.f, 3.f});
+    expectVecNear(hit.ng, {0.f, 1.f, 0.f});
+    // Frame::fromNormal(+y) has s = +x and t = -z.
+    EXPECT_NEAR(hit.uv.x, 1.f, kEps);
+    EXPECT_NEAR(hit.uv.y, -3.f, kEps);
+
+    Ray up = makeRay({0.f, -2.f, 0.f}, {0.f, 1.f, 0.f});
+    auto back = intersect(scene.planes[0], up);
+    ASSERT_TRUE(back);
+    EXPECT_FLOAT_EQ(back->t, 2.f);
+    Hit backHit = scene.completeHit(up, PrimRef{ShapeKind::Plane, 0, 0}, back->t, back->u, back->v);
+    expectVecNear(backHit.ng, {0.f, 1.f, 0.f});  // the front normal, not flipped
+}
+
+TEST(PlaneTest, OneSidedIsInvisibleFromBehind) {
+    Plane p{{0.f, 1.f, 0.f}, {0.f, 1.f, 0.f}, false, 0};
+    EXPECT_FALSE(intersect(p, makeRay({0.f, -2.f, 0.f}, {0.f, 1.f, 0.f})));
+    auto front = intersect(p, makeRay({0.f, 4.f, 0.f}, {0.f, -1.f, 0.f}));
+    ASSERT_TRUE(front);
+    EXPECT_FLOAT_EQ(front->t, 3.f);
+}
+
+TEST(PlaneTest, ParallelAndAwayRaysMiss) {
+    Plane p{{0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, true, 0};
+    EXPECT_FALSE(intersect(p, makeRay({0.f, 1.f, 0.f}, {1.f, 0.f, 0.f})));
+    auto inPlane = intersect(p, makeRay({0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}));  // grazing: inside the plane
+    EXPECT_FALSE(inPlane);
+    expectFiniteOrMiss(inPlane);
+    EXPECT_FALSE(intersect(p, makeRay({0.f, 1.f, 0.f}, {0.f, 1.f, 0.f})));
+}
+
+TEST(PlaneTest, IntervalLimits) {
+    Plane p{{0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, true, 0};
+    const Vec3f o{0.f, 2.f, 0.f}, d{0.f, -1.f, 0.f};
+    EXPECT_TRUE(intersect(p, makeRay(o, d, 0.f, 2.f)));
+    EXPECT_FALSE(intersect(p, makeRay(o, d, 0.f, std::nextafter(2.f, 0.f))));
+    EXPECT_FALSE(intersect(p, makeRay(o, d, 2.f, 10.f)));
+}
+
+// ---------------------------------------------------------------- box
+
+TEST(BoxTest, AxisAlignedHitsFromOutsideAndInside) {
+    Scene scene;
+    scene.boxes.push_back(makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}));
+    Ray r = makeRay({0.5f, -0.5f, -5.f}, {0.f, 0.f, 1.f});
+    auto h = intersect(scene.boxes[0], r);
+    ASSERT_TRUE(h);
+    EXPECT_FLOAT_EQ(h->t, 4.f);
+    Hit hit = scene.completeHit(r, PrimRef{ShapeKind::Box, 0, 0}, h->t, h->u, h->v);
+    expectVecNear(hit.p, {0.5f, -0.5f, -1.f});
+    expectVecNear(hit.ng, {0.f, 0.f, -1.f});
+    // Face -z: uv along x and y, relative to the box size.
+    EXPECT_NEAR(hit.uv.x, 0.75f, kEps);
+    EXPECT_NEAR(hit.uv.y, 0.25f, kEps);
+
+    Ray inside = makeRay({0.f, 0.f, 0.f}, {0.f, 0.f, 1.f});
+    auto hi = intersect(scene.boxes[0], inside);
+    ASSERT_TRUE(hi);
+    EXPECT_FLOAT_EQ(hi->t, 1.f);
+    Hit hitIn = scene.completeHit(inside, PrimRef{ShapeKind::Box, 0, 0}, hi->t, hi->u, hi->v);
+    expectVecNear(hitIn.ng, {0.f, 0.f, 1.f});
+
+    Ray side = makeRay({-4.f, 0.25f, 0.1f}, {1.f, 0.f, 0.f});
+    auto hs = intersect(scene.boxes[0], side);
+    ASSERT_TRUE(hs);
+    EXPECT_FLOAT_EQ(hs->t, 3.f);
+    expectVecNear(scene.completeHit(side, PrimRef{ShapeKind::Box, 0, 0}, hs->t, 0.f, 0.f).ng, {-1.f, 0.f, 0.f});
+}
+
+TEST(BoxTest, MissesGrazingAndLimits) {
+    Box b = makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f});
+    EXPECT_FALSE(intersect(b, makeRay({0.f, 2.f, -5.f}, {0.f, 0.f, 1.f})));
+    EXPECT_FALSE(intersect(b, makeRay({0.f, 0.f, -5.f}, {0.f, 0.f, -1.f})));
+    EXPECT_FALSE(intersect(b, makeRay({-5.f, 0.f, -5.f}, {1.f, 0.f, 0.1f})));
+    // A ray sliding along the top face touches the closed slab.
+    auto graze = intersect(b, makeRay({-5.f, 1.f, 0.f}, {1.f, 0.f, 0.f}));
+    ASSERT_TRUE(graze);
+    EXPECT_FLOAT_EQ(graze->t, 4.f);
+    EXPECT_FALSE(intersect(b, makeRay({-5.f, 1.001f, 0.f}, {1.f, 0.f, 0.f})));
+    // Hits at 4 and 6.
+    const Vec3f o{0.f, 0.f, -5.f}, d{0.f, 0.f, 1.f};
+    EXPECT_TRUE(intersect(b, makeRay(o, d, 0.f, 4.f)));
+    EXPECT_FALSE(intersect(b, makeRay(o, d, 0.f, std::nextafter(4.f, 0.f))));
+    auto far = intersect(b, makeRay(o, d, 4.f, 100.f));
+    ASSERT_TRUE(far);
+    EXPECT_FLOAT_EQ(far->t, 6.f);
+}
+
+TEST(BoxTest, OrientedBoxViaRotation) {
+    Scene scene;
+    const Transform rot = Transform::rotate(30.f, {0.f, 1.f, 0.f});
+    scene.boxes.push_back(makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}, Transform::translate({2.f, 0.f, 0.f}) * rot));
+    // Along +x the ray meets the face whose normal is the rotated -x axis; its
+    // plane lies 1 unit from the centre, so t = (5 + 2) - 1 / cos 30.
+    Ray r = makeRay({-5.f, 0.f, 0.f}, {1.f, 0.f, 0.f});
+    auto h = intersect(scene.boxes[0], r);
+    ASSERT_TRUE(h);
+    EXPECT_NEAR(h->t, 7.f - 1.f / std::cos(30.f * kPi / 180.f), 1e-5f);
+    Hit hit = scene.completeHit(r, PrimRef{ShapeKind::Box, 0, 0}, h->t, h->u, h->v);
+    expectVecNear(hit.ng, normalize(rot.applyVector({-1.f, 0.f, 0.f})));
+    EXPECT_NEAR(std::fabs(hit.ng.x), std::cos(30.f * kPi / 180.f), 1e-5f);
+    expectVecNear(hit.p, r.o + h->t * r.d, 1e-5f);
+    // The world-space corner region the axis-aligned box would cover is empty now.
+    EXPECT_FALSE(intersect(scene.boxes[0], makeRay({2.95f, 5.f, 0.95f}, {0.f, -1.f, 0.f}, 0.f, kInfinity)));
+}
+
+TEST(BoxTest, SingularTransformNeverHits) {
+    Box b = makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}, Transform::scale({1.f, 0.f, 1.f}));
+    for (Vec3f d : {Vec3f{0.f, -1.f, 0.f}, Vec3f{0.f, 0.f, 1.f}, Vec3f{0.3f, -0.5f, 0.8f}}) {
+        auto h = intersect(b, makeRay(Vec3f{0.f, 0.f, 0.f} - 5.f * d, d));
+        EXPECT_FALSE(h);
+        expectFiniteOrMiss(h);
+    }
+    EXPECT_TRUE(bounds(b).empty());
+}
+
+// ---------------------------------------------------------------- rectangle
+
+TEST(RectangleTest, HitGivesParametersAndFrontNormal) {
+    Scene scene;
+    // cross(a, b) = cross(2x, 2z) = -4y: the front faces down.
+    scene.rectangles.push_back(Rectangle{{-1.f, 0.f, -1.f}, {2.f, 0.f, 0.f}, {0.f, 0.f, 2.f}, 0});
+    Ray r = makeRay({0.5f, 3.f, -0.5f}, {0.f, -1.f, 0.f});
+    auto h = intersect(scene.rectangles[0], r);
+    ASSERT_TRUE(h);
+    EXPECT_FLOAT_EQ(h->t, 3.f);
+    EXPECT_NEAR(h->u, 0.75f, kEps);
+    EXPECT_NEAR(h->v, 0.25f, kEps);
+    Hit hit = scene.completeHit(r, PrimRef{ShapeKind::Rectangle, 0, 0}, h->t, h->u, h->v);
+    expectVecNear(hit.p, {0.5f, 0.f, -0.5f});
+    expectVecNear(hit.ng, {0.f, -1.f, 0.f});
+    EXPECT_NEAR(hit.uv.x, 0.75f, kEps);
+    EXPECT_NEAR(hit.uv.y, 0.25f, kEps);
+    // Two-sided: also hit from below.
+    EXPECT_TRUE(intersect(scene.rectangles[0], makeRay({0.f, -1.f, 0.f}, {0.f, 1.f, 0.f})));
+}
+
+TEST(RectangleTest, ParallelogramCoordinates) {
+    // a and b not perpendicular: (u, v) are coordinates in the (a, b) basis.
+    Rectangle q{{0.f, 0.f, 0.f}, {2.f, 0.f, 0.f}, {1.f, 1.f, 0.f}, 0};
+    Vec3f target = q.p0 + 0.25f * q.a + 0.5f * q.b;
+    auto h = intersect(q, makeRay(target + Vec3f{0.f, 0.f, 2.f}, {0.f, 0.f, -1.f}));
+    ASSERT_TRUE(h);
+    EXPECT_FLOAT_EQ(h->t, 2.f);
+    EXPECT_NEAR(h->u, 0.25f, kEps);
+    EXPECT_NEAR(h->v, 0.5f, kEps);
+}
+
+TEST(RectangleTest, MissesEdgesLimitsAndDegenerate) {
+    Rectangle q{{-1.f, 0.f, -1.f}, {2.f, 0.f, 0.f}, {0.f, 0.f, 2.f}, 0};
+    EXPECT_FALSE(intersect(q, makeRay({1.5f, 3.f, 0.f}, {0.f, -1.f, 0.f})));
+    EXPECT_FALSE(intersect(q, makeRay({0.f, 3.f, 0.f}, {0.f, 1.f, 0.f})));
+    EXPECT_FALSE(intersect(q, makeRay({-5.f, 0.f, 0.f}, {1.f, 0.f, 0.f})));  // grazing, in its plane
+    auto edge = intersect(q, makeRay({1.f, 3.f, 0.f}, {0.f, -1.f, 0.f}));   // on the closed edge s = 1
+    ASSERT_TRUE(edge);
+    EXPECT_FLOAT_EQ(edge->u, 1.f);
+    EXPECT_FALSE(intersect(q, makeRay({0.f, 3.f, 0.f}, {0.f, -1.f, 0.f}, 0.f, 2.999f)));
+    EXPECT_FALSE(intersect(q, makeRay({0.f, 3.f, 0.f}, {0.f, -1.f, 0.f}, 3.f, 10.f)));
+
+    for (const Rectangle& bad : {Rectangle{{0.f, 0.f, 0.f}, {0.f, 0.f, 0.f}, {0.f, 0.f, 1.f}, 0},
+                                 Rectangle{{0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, {2.f, 0.f, 0.f}, 0}}) {
+        for (Vec3f d : {Vec3f{0.f, -1.f, 0.f}, Vec3f{0.f, 0.f, -1.f}, Vec3f{1.f, 0.f, 0.f}}) {
+            auto h = intersect(bad, makeRay(Vec3f{0.2f, 0.f, 0.f} - 3.f * d, d));
+            EXPECT_FALSE(h);
+            expectFiniteOrMiss(h);
+        }
+        EXPECT_EQ(area(bad), 0.f);
+    }
+}
+
+// ---------------------------------------------------------------- disk
+
+TEST(DiskTest, HitGivesFrameCoordinates) {
+    Scene scene;
+    scene.disks.push_back(Disk{{0.f, 0.f, 0.f}, {0.f, 0.f, 1.f}, 2.f, 0});
+    Ray r = makeRay({1.f, 0.f, 5.f}, {0.f, 0.f, -1.f});
+    auto h = intersect(scene.disks[0], r);
+    ASSERT_TRUE(h);
+    EXPECT_FLOAT_EQ(h->t, 5.f);
+    // Frame::fromNormal(+z) is s = +x, t = +y: (u, v) = (1, 0) / radius.
+    EXPECT_NEAR(h->u, 0.5f, kEps);
+    EXPECT_NEAR(h->v, 0.f, kEps);
+    Hit hit = scene.completeHit(r, PrimRef{ShapeKind::Disk, 0, 0}, h->t, h->u, h->v);
+    expectVecNear(hit.p, {1.f, 0.f, 0.f});
+    expectVecNear(hit.ng, {0.f, 0.f, 1.f});
+    EXPECT_NEAR(hit.uv.x, 0.75f, kEps);
+    EXPECT_NEAR(hit.uv.y, 0.5f, kEps);
+    // From behind (two-sided), the normal stays the front one.
+    Ray back = makeRay({0.f, 1.f, -3.f}, {0.f, 0.f, 1.f});
+    auto hb = intersect(scene.disks[0], back);
+    ASSERT_TRUE(hb);
+    EXPECT_FLOAT_EQ(hb->t, 3.f);
+    expectVecNear(scene.completeHit(back, PrimRef{ShapeKind::Disk, 0, 0}, hb->t, hb->u, hb->v).ng, {0.f, 0.f, 1.f});
+}
+
+TEST(DiskTest, MissesLimitsAndDegenerate) {
+    Disk k{{0.f, 0.f, 0.f}, {0.f, 0.f, 1.f}, 2.f, 0};
+    EXPECT_FALSE(intersect(k, makeRay({2.1f, 0.f, 5.f}, {0.f, 0.f, -1.f})));
+    EXPECT_FALSE(intersect(k, makeRay({1.5f, 1.5f, 5.f}, {0.f, 0.f, -1.f})));  // inside the square, outside the disk
+    EXPECT_TRUE(intersect(k, makeRay({2.f, 0.f, 5.f}, {0.f, 0.f, -1.f})));     // on the rim
+    EXPECT_FALSE(intersect(k, makeRay({-5.f, 0.f, 0.f}, {1.f, 0.f, 0.f})));    // grazing, in its plane
+    EXPECT_FALSE(intersect(k, makeRay({0.f, 0.f, 5.f}, {0.f, 0.f, -1.f}, 0.f, 4.99f)));
+    EXPECT_TRUE(intersect(k, makeRay({0.f, 0.f, 5.f}, {0.f, 0.f, -1.f}, 0.f, 5.f)));
+    EXPECT_FALSE(intersect(k, makeRay({0.f, 0.f, 5.f}, {0.f, 0.f, -1.f}, 5.f, 10.f)));
+    auto h = intersect(Disk{{0.f, 0.f, 0.f}, {0.f, 0.f, 1.f}, 0.f, 0}, makeRay({0.f, 0.f, 5.f}, {0.f, 0.f, -1.f}));
+    EXPECT_FALSE(h);
+    expectFiniteOrMiss(h);
+}
+
+// ---------------------------------------------------------------- triangle
+
+TEST(TriangleTest, HitGivesBarycentricsAndMeshNormal) {
+    Scene scene;
+    TriangleMesh m;
+    m.positions.push_back({0.f, 0.f, 0.f});
+    m.positions.push_back({1.f, 0.f, 0.f});
+    m.positions.push_back({0.f, 1.f, 0.f});
+    m.indices = {0, 1, 2};
+    scene.meshes.push_back(m);
+    Ray r = makeRay({0.25f, 0.5f, 1.f}, {0.f, 0.f, -1.f});
+    auto h = intersectTriangle(m.positions[0], m.positions[1], m.positions[2], r);
+    ASSERT_TRUE(h);
+    EXPECT_FLOAT_EQ(h->t, 1.f);
+    EXPECT_NEAR(h->u, 0.25f, kEps);  // weight of p1
+    EXPECT_NEAR(h->v, 0.5f, kEps);   // weight of p2
+    Hit hit = scene.completeHit(r, PrimRef{ShapeKind::Mesh, 0, 0}, h->t, h->u, h->v);
+    expectVecNear(hit.p, {0.25f, 0.5f, 0.f});
+    expectVecNear(hit.ng, {0.f, 0.f, 1.f});
+    EXPECT_NEAR(hit.uv.x, 0.25f, kEps);
+    EXPECT_NEAR(hit.uv.y, 0.5f, kEps);
+    // Two-sided, and the same parameters from behind.
+    auto back = intersectTriangle(m.positions[0], m.positions[1], m.positions[2],
+                                  makeRay({0.25f, 0.5f, -2.f}, {0.f, 0.f, 1.f}));
+    ASSERT_TRUE(back);
+    EXPECT_FLOAT_EQ(back->t, 2.f);
+    EXPECT_NEAR(back->u, 0.25f, kEps);
+}
+
+TEST(TriangleTest, MissesGrazingLimitsAndDegenerate) {
+    const Vec3f p0{0.f, 0.f, 0.f}, p1{1.f, 0.f, 0.f}, p2{0.f, 1.f, 0.f};
+    EXPECT_FALSE(intersectTriangle(p0, p1, p2, makeRay({0.6f, 0.6f, 1.f}, {0.f, 0.f, -1.f})));
+    EXPECT_FALSE(intersectTriangle(p0, p1, p2, makeRay({0.2f, 0.2f, 1.f}, {0.f, 0.f, 1.f})));
+    auto graze = intersectTriangle(p0, p1, p2, makeRay({-1.f, 0.2f, 0.f}, {1.f, 0.f, 0.f}));  // in its plane
+    EXPECT_FALSE(graze);
+    expectFiniteOrMiss(graze);
+    EXPECT_TRUE(intersectTriangle(p0, p1, p2, makeRay({0.2f, 0.2f, 1.f}, {0.f, 0.f, -1.f}, 0.f, 1.f)));
+    EXPECT_FALSE(intersectTriangle(p0, p1, p2, makeRay({0.2f, 0.2f, 1.f}, {0.f, 0.f, -1.f}, 0.f, 0.999f)));
+    EXPECT_FALSE(intersectTriangle(p0, p1, p2, makeRay({0.2f, 0.2f, 1.f}, {0.f, 0.f, -1.f}, 1.f, 5.f)));
+
+    // Zero area: collinear and coincident vertices.
+    for (Vec3f q : {Vec3f{2.f, 0.f, 0.f}, Vec3f{1.f, 0.f, 0.f}, Vec3f{0.f, 0.f, 0.f}}) {
+        for (Vec3f d : {Vec3f{0.f, 0.f, -1.f}, Vec3f{0.f, -1.f, 0.f}, Vec3f{-1.f, 0.f, 0.f}}) {
+            auto h = intersectTriangle(p0, p1, q, makeRay(Vec3f{0.5f, 0.f, 0.f} - 2.f * d, d));
+            EXPECT_FALSE(h);
+            expectFiniteOrMiss(h);
+        }
+        EXPECT_EQ(triangleArea(p0, p1, q), 0.f);
+    }
+}
+
+TEST(TriangleTest, SharedEdgeAndVertexAreWatertight) {
+    // Two triangles of a quad share the diagonal p1-p2; rays exactly through
+    // the diagonal and the shared vertices must hit at least one of them.
+    const Vec3f p0{0.f, 0.f, 0.f}, p1{1.f, 0.f, 0.f}, p2{0.f, 1.f, 0.f}, p3{1.f, 1.f, 0.f};
+    int misses = 0;
+    for (int i = 0; i <= 16; ++i) {
+        float s = i / 16.f;
+        Vec3f target{1.f - s, s, 0.f};
+        for (Vec3f d : {Vec3f{0.f, 0.f, -1.f}, Vec3f{0.3f, -0.2f, -1.f}, Vec3f{-0.7f, 0.1f, -0.5f}}) {
+            Ray r = makeRay(target - 3.f * d, d);
+            bool a = intersectTriangle(p0, p1, p2, r).has_value();
+            bool b = intersectTriangle(p1, p3, p2, r).has_value();
+            if (!a && !b) ++misses;
+        }
+    }
+    EXPECT_EQ(misses, 0);
+}
+
+// ---------------------------------------------------------------- bounds, area, sampling
+
+TEST(ShapeBoundsTest, ContainTheShape) {
+    Bounds3f bs = bounds(Sphere{{1.f, 2.f, 3.f}, 0.5f, 0});
+    expectVecNear(bs.lo, {0.5f, 1.5f, 2.5f});
+    expectVecNear(bs.hi, {1.5f, 2.5f, 3.5f});
+    Bounds3f bd = bounds(Disk{{0.f, 0.f, 0.f}, {0.f, 0.f, 1.f}, 2.f, 0});
+    expectVecNear(bd.lo, {-2.f, -2.f, 0.f});
+    expectVecNear(bd.hi, {2.f, 2.f, 0.f});
+    Bounds3f bq = bounds(Rectangle{{-1.f, 0.f, -1.f}, {2.f, 0.f, 0.f}, {0.f, 0.f, 2.f}, 0});
+    expectVecNear(bq.lo, {-1.f, 0.f, -1.f});
+    expectVecNear(bq.hi, {1.f, 0.f, 1.f});
+    Bounds3f bb = bounds(makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}, Transform::rotate(45.f, {0.f, 0.f, 1.f})));
+    EXPECT_NEAR(bb.hi.x, std::sqrt(2.f), 1e-5f);
+    EXPECT_NEAR(bb.hi.z, 1.f, 1e-5f);
+}
+
+TEST(ShapeSamplingTest, SpherePointsLieOnTheSurfaceWithPdfOneOverArea) {
+    Sphere s{{1.f, -2.f, 0.5f}, 1.5f, 0};
+    EXPECT_NEAR(area(s), 4.f * kPi * 2.25f, 1e-4f);
+    for (int i = 0; i < 64; ++i) {
+        Vec2f u{(i % 8 + 0.5f) / 8.f, (i / 8 + 0.5f) / 8.f};
+        SurfaceSample ss = sampleUniform(s, u);
+        EXPECT_NEAR(length(ss.p - s.center), s.radius, 1e-5f);
+        expectVecNear(ss.n, (ss.p - s.center) / s.radius, 1e-5f);
+        EXPECT_NEAR(ss.pdfArea, 1.f / area(s), 1e-7f);
+    }
+}
+
+TEST(ShapeSamplingTest, RectanglePointsLieOnTheSurfaceWithPdfOneOverArea) {
+    Rectangle q{{-1.f, 2.f, -1.f}, {2.f, 0.f, 0.f}, {0.f, 0.f, 3.f}, 0};
+    EXPECT_FLOAT_EQ(area(q), 6.f);
+    for (int i = 0; i < 64; ++i) {
+        Vec2f u{(i % 8 + 0.5f) / 8.f, (i / 8 + 0.5f) / 8.f};
+        SurfaceSample ss = sampleUniform(q, u);
+        EXPECT_FLOAT_EQ(ss.p.y, 2.f);
+        EXPECT_GE(ss.p.x, -1.f);
+        EXPECT_LE(ss.p.x, 1.f);
+        EXPECT_GE(ss.p.z, -1.f);
+        EXPECT_LE(ss.p.z, 2.f);
+        expectVecNear(ss.n, {0.f, -1.f, 0.f});
+        EXPECT_FLOAT_EQ(ss.pdfArea, 1.f / 6.f);
+    }
+}
+
+TEST(ShapeSamplingTest, DiskPointsLieOnTheSurfaceWithPdfOneOverArea) {
+    Disk k{{0.f, 1.f, 0.f}, normalize(Vec3f{1.f, 1.f, 0.f}), 0.5f, 0};
+    EXPECT_NEAR(area(k), kPi * 0.25f, 1e-6f);
+    float maxR = 0.f;
+    for (int i = 0; i < 64; ++i) {
+        Vec2f u{(i % 8 + 0.5f) / 8.f, (i / 8 + 0.5f) / 8.f};
+        SurfaceSample ss = sampleUniform(k, u);
+        EXPECT_NEAR(dot(ss.p - k.center, k.normal), 0.f, 1e-6f);
+        EXPECT_LE(length(ss.p - k.center), k.radius + 1e-6f);
+        maxR = std::max(maxR, length(ss.p - k.center));
+        expectVecNear(ss.n, k.normal);
+        EXPECT_NEAR(ss.pdfArea, 1.f / area(k), 1e-6f);
+    }
+    EXPECT_GT(maxR, 0.4f);  // the samples spread over the disk
+}
+
+TEST(ShapeSamplingTest, TrianglePointsLieOnTheSurfaceWithPdfOneOverArea) {
+    const Vec3f p0{0.f, 0.f, 0.f}, p1{2.f, 0.f, 0.f}, p2{0.f, 0.f, -2.f};
+    EXPECT_FLOAT_EQ(triangleArea(p0, p1, p2), 2.f);
+    for (int i = 0; i < 64; ++i) {
+        Vec2f u{(i % 8 + 0.5f) / 8.f, (i / 8 + 0.5f) / 8.f};
+        SurfaceSample ss = sampleTriangle(p0, p1, p2, u);
+        EXPECT_FLOAT_EQ(ss.p.y, 0.f);
+        EXPECT_GE(ss.p.x, 0.f);
+        EXPECT_LE(ss.p.z, 0.f);
+        EXPECT_LE(ss.p.x - ss.p.z, 2.f + 1e-5f);  // inside the hypotenuse
+        expectVecNear(ss.n, normalize(cross(p1 - p0, p2 - p0)));
+        EXPECT_FLOAT_EQ(ss.pdfArea, 0.5f);
+    }
+}
+
+}  // namespace
+}  // namespace penumbra

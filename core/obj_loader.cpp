@@ -530,11 +530,13 @@ struct VertexKeyHash {
 std::string lineNote(uint32_t line) { return line > 0 ? " (first at line " + std::to_string(line) + ")" : ""; }
 
 /// Lines of tinyobjloader's warnings, without those this loader reports
-/// itself more precisely, each distinct line once.
+/// itself more precisely or that concern ignored keys, each distinct line once.
 std::vector<std::string> filterTinyObjWarnings(const std::string& warn) {
     static constexpr std::string_view kOwn[] = {"Vertex indices out of bounds", "Vertex normal indices out of bounds",
                                                 "Vertex texcoord indices out of bounds", "Degenerated face found",
-                                                "Face with invalid vertex index"};
+                                                "Face with invalid vertex index",
+                                                // d and Tr (dissolve) are not used
+                                                "Both `d` and `Tr`"};
     std::vector<std::string> out;
     std::set<std::string> seen;
     std::istringstream in(warn);

@@ -4,16 +4,19 @@
 // and reports problems with the file name and the JSON pointer of the value.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <map>
 #include <new>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <unordered_set>
 #include <vector>
 
@@ -89,8 +92,8 @@ class DuplicateKeyCheck {
 public:
     explicit DuplicateKeyCheck(std::string file) : file_(std::move(file)) {}
 
-    bool operator()(int /*depth*/, nlohmann::detail::parse_event_t event, Json& parsed) {
-        using E = nlohmann::detail::parse_event_t;
+    bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
+        using E = Json::parse_event_t;
         switch (event) {
             case E::object_start:
                 startElement();
@@ -231,8 +234,7 @@ private:
     }
 
     void expectType(const Json& j, const std::string& ptr, Json::value_t type, const char* what) const {
-        bool ok = j.type() == type;
-        if (!ok) fail(ErrorCode::ParseError, ptr, std::string("expected ") + what + ", got " + typeName(j));
+        if (j.type() != type) fail(ErrorCode::ParseError, ptr, std::string("expected ") + what + ", got " + typeName(j));
     }
 
     static const Json* find(const Json& obj, const char* key) {
@@ -682,7 +684,7 @@ private:
     }
 
     /// Numbers of an array given either nested ([[x, y, z], ...]) or flat
-    /// ([x, y, z, ...]), flattened. Integers when `integers` is set.
+    /// ([x, y, z, ...]), flattened; T is float (finite numbers) or uint32_t (indices).
     template <class T>
     std::vector<T> tuples(const Json& j, const std::string& ptr, size_t arity, const char* what) const {
         if (!j.is_array()) fail(ErrorCode::ParseError, ptr, std::string("expected an array of ") + what);

@@ -484,8 +484,10 @@ TEST(SceneFile, MeshFromObjMaterialOverridesAllFaces) {
     fs::path dir = tempDir();
     writeObj(dir);
     fs::path scene = writeFile(dir / "scene.json", R"({"materials": {"gold": {"kd": [0.8, 0.6, 0.2]}},
-        "shapes": [{"type": "mesh", "file": "models/tri.obj", "material": "gold"}]})");
+        "shapes": [{"type": "mesh", "name": "golden", "file": "models/tri.obj", "material": "gold"}]})");
     LoadedScene s = loadJsonScene(scene, {}, Logger());
+    ASSERT_FALSE(s.scene.meshes.empty());
+    for (const auto& m : s.scene.meshes) EXPECT_EQ(m.name, "golden");
     for (uint32_t id : faceMaterials(s.scene)) EXPECT_EQ(id, 0u);
     EXPECT_EQ(faceMaterials(s.scene).size(), 2u);
 }

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -463,7 +464,9 @@ void triangulate(const std::vector<Vec3f>& p, std::vector<std::array<uint32_t, 3
         for (size_t i = 1; i + 1 < v.size(); ++i) out.push_back({v[0], v[i], v[i + 1]});
     };
     if (n == 4) {
-        auto faces = [&](uint32_t a, uint32_t b, uint32_t c) { return dot(cross(p[b] - p[a], p[c] - p[a]), normal) > 0.f; };
+        auto faces = [&](uint32_t a, uint32_t b, uint32_t c) {
+            return dot(cross(p[b] - p[a], p[c] - p[a]), normal) > 0.f;
+        };
         bool splitA = faces(0, 1, 2) && faces(0, 2, 3);  // diagonal 0-2
         bool splitB = faces(0, 1, 3) && faces(1, 2, 3);  // diagonal 1-3
         bool useA = splitA && (!splitB || lengthSquared(p[2] - p[0]) <= lengthSquared(p[3] - p[1]));
@@ -599,8 +602,8 @@ ObjStats appendObj(Scene& scene, const std::filesystem::path& objPath, const Tra
     }
     std::vector<Vec3f> nrm(nn);
     for (size_t i = 0; i < nn; ++i) {
-        Vec3f n = worldFromObject.applyNormal({attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2]});
-        n = normalize(n);
+        Vec3f n{attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2]};
+        n = normalize(worldFromObject.applyNormal(n));
         nrm[i] = isFinite(n) ? n : Vec3f{};
     }
     // A mirroring placement turns counter-clockwise into clockwise; swap to keep the front side.
@@ -636,8 +639,10 @@ ObjStats appendObj(Scene& scene, const std::filesystem::path& objPath, const Tra
             offset += n;
 
             bool good = n >= 3;
-            for (size_t i = 0; i < n && good; ++i)
-                good = c[i].vertex_index >= 0 && static_cast<size_t>(c[i].vertex_index) < nv && posOk[c[i].vertex_index];
+            for (size_t i = 0; i < n && good; ++i) {
+                int vi = c[i].vertex_index;
+                good = vi >= 0 && static_cast<size_t>(vi) < nv && posOk[vi];
+            }
             if (!good) {
                 ++badFaces;
                 noteLine(firstBadLine, faceNo);
@@ -688,7 +693,8 @@ ObjStats appendObj(Scene& scene, const std::filesystem::path& objPath, const Tra
                     if (inserted) {
                         mesh.positions.push_back(pos[key.v]);
                         mesh.normals.push_back(key.vn >= 0 ? nrm[key.vn] : Vec3f{});
-                        mesh.uvs.push_back(key.vt >= 0 ? Vec2f{attrib.texcoords[2 * key.vt], attrib.texcoords[2 * key.vt + 1]}
+                        mesh.uvs.push_back(key.vt >= 0 ? Vec2f{attrib.texcoords[2 * key.vt],
+                                                               attrib.texcoords[2 * key.vt + 1]}
                                                        : Vec2f{});
                         anyNormals = anyNormals || key.vn >= 0;
                         anyUvs = anyUvs || key.vt >= 0;

@@ -65,11 +65,12 @@ Vec3f Transform::applyVector(const Vec3f& v) const {
 Vec3f Transform::applyNormal(const Vec3f& n) const {
     // Inverse transpose of the linear part equals the cofactor matrix / det;
     // the scale does not matter for a normal, so use the cofactors directly.
+    // c0, c1, c2 are the rows of the cofactor matrix.
     const auto& m = m_;
     Vec3f c0{m[1][1] * m[2][2] - m[1][2] * m[2][1], m[1][2] * m[2][0] - m[1][0] * m[2][2], m[1][0] * m[2][1] - m[1][1] * m[2][0]};
     Vec3f c1{m[0][2] * m[2][1] - m[0][1] * m[2][2], m[0][0] * m[2][2] - m[0][2] * m[2][0], m[0][1] * m[2][0] - m[0][0] * m[2][1]};
     Vec3f c2{m[0][1] * m[1][2] - m[0][2] * m[1][1], m[0][2] * m[1][0] - m[0][0] * m[1][2], m[0][0] * m[1][1] - m[0][1] * m[1][0]};
-    Vec3f r = c0 * n.x + c1 * n.y + c2 * n.z;
+    Vec3f r{dot(c0, n), dot(c1, n), dot(c2, n)};
     return determinant() < 0.f ? -r : r;
 }
 

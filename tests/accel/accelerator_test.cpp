@@ -1,6 +1,6 @@
 // Accelerator behaviour beyond agreement: invalid rays, rays spawned far from
-// the origin, empty and plane-only scenes, the factory, hit completion, and
-// Embree errors surfacing as penumbra::Error.
+// the origin, empty and plane-only scenes, meshes without triangles, the
+// factory, names, memory, and hit completion for every shape kind.
 #include <gtest/gtest.h>
 #include <pmmintrin.h>
 #include <xmmintrin.h>
@@ -199,9 +199,26 @@ SelfHitCount shootSelfHitRays(const Accelerator& acc, const Vec3f& center, uint3
     return c;
 }
 
+// FTZ/DAZ as in render threads, restored on exit.
+class FlushDenormalsScope {
+public:
+    FlushDenormalsScope() : ftz_(_MM_GET_FLUSH_ZERO_MODE()), daz_(_MM_GET_DENORMALS_ZERO_MODE()) {
+        _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+        _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+    }
+    ~FlushDenormalsScope() {
+        _MM_SET_FLUSH_ZERO_MODE(ftz_);
+        _MM_SET_DENORMALS_ZERO_MODE(daz_);
+    }
+    FlushDenormalsScope(const FlushDenormalsScope&) = delete;
+    FlushDenormalsScope& operator=(const FlushDenormalsScope&) = delete;
+
+private:
+    unsigned ftz_, daz_;
+};
+
 TEST(AcceleratorTest, RaysSpawnedFarFromTheOriginDoNotReHitTheirSurface) {
-    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+    FlushDenormalsScope ftz;
     const Vec3f c{1e4f, 1e4f, -1e4f};
     std::vector<Scene> scenes(5);
     scenes[0].planes.push_back(Plane{c, normalize(Vec3f{0.1f, 1.f, -0.05f}), false, 0});
@@ -219,8 +236,6 @@ TEST(AcceleratorTest, RaysSpawnedFarFromTheOriginDoNotReHitTheirSurface) {
             EXPECT_EQ(n.shadowBlocked, 0) << "scene " << k << " " << acc->name();
         }
     }
-    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_OFF);
-    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_OFF);
 }
 
 TEST(AcceleratorTest, EmptySceneBuildsAndMissesEverything) {

@@ -726,7 +726,8 @@ TEST(SceneLoader, DispatchesOnTheExtension) {
         FAIL();
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
-        EXPECT_EQ(std::string(e.what()), (dir / "model.ply").string() + ": unknown scene format (expected .obj or .json)");
+        EXPECT_EQ(std::string(e.what()),
+                  (dir / "model.ply").string() + ": unknown scene format (expected .obj or .json)");
     }
     auto json = writeFile(dir / "s.JSON", "{}");
     EXPECT_NO_THROW(loadScene(json, {}, log.logger));
@@ -901,8 +902,8 @@ TEST(SharedScenes, TinyObjMalformedFilesLoadOrFailCleanly) {
     for (const auto& c : cases) {
         LogCapture log;
         Scene scene;
-        ObjStats st = appendObj(scene, test::sharedScenePath(std::string("tinyobjloader_models/") + c.file), Transform(),
-                                {}, log.logger);
+        fs::path obj = test::sharedScenePath(std::string("tinyobjloader_models/") + c.file);
+        ObjStats st = appendObj(scene, obj, Transform(), {}, log.logger);
         EXPECT_EQ(st.triangles, c.triangles) << c.file << "\n" << log.all();
         EXPECT_EQ(st.droppedFaces, c.dropped) << c.file << "\n" << log.all();
     }

@@ -57,13 +57,14 @@ CameraDesc frameBounds(const Bounds3f& bounds, float vfovDegrees, float aspect) 
     if (bounds.empty() || !isFinite(bounds.lo) || !isFinite(bounds.hi)) return cam;
 
     const Vec3f center = bounds.center();
-    float radius = 0.5f * length(bounds.diagonal());
-    if (!(radius > 0.f) || !std::isfinite(radius)) radius = 1.f;  // a single point: any distance shows it
+    const Vec3f half = bounds.diagonal() * 0.5f;
     const float halfV = 0.5f * cam.vfovDegrees * kPi / 180.f;
     const float a = std::isfinite(aspect) && aspect > 0.f ? aspect : 1.f;
-    const float halfH = std::atan(a * std::tan(halfV));
-    // The bounding sphere fits the narrower of the two fields of view, with a 5% margin.
-    const float distance = 1.05f * radius / std::sin(std::min(halfV, halfH));
+    const float tanV = std::tan(halfV), tanH = a * tanV;
+    // Fit the box's front face (the corners nearest the camera are the
+    // hardest to fit), with a 5% margin: tighter than a bounding sphere.
+    float distance = half.z + 1.05f * std::max(half.x / tanH, half.y / tanV);
+    if (!(distance > 0.f) || !std::isfinite(distance)) distance = 1.f;  // a single point: any distance shows it
     cam.lookAt = center;
     cam.eye = center + Vec3f{0.f, 0.f, distance};
     cam.up = Vec3f{0.f, 1.f, 0.f};

@@ -192,3 +192,28 @@ TEST(Cli, NaiveAndEmbreeRenderTheSameImage) {
     for (size_t i = 0; i < e.pixels.size(); ++i) maxDiff = std::max(maxDiff, double(std::fabs(e.pixels[i] - n.pixels[i])));
     EXPECT_LT(maxDiff, 1e-3);
 }
+
+TEST(Cli, DefaultSceneRendersTheSameWithBothAccelerators) {
+    fs::path dir = test::tempDir();
+    const std::string scene = test::assetPath("cornell/cornell.obj").string();
+    const std::string opts = " -q --width 96 --height 96 --spp 4 ";
+    ASSERT_EQ(runPenumbra(scene + opts + "--accel embree -o " + (dir / "e.exr").string()).exitCode, 0);
+    ASSERT_EQ(runPenumbra(scene + opts + "--accel naive -o " + (dir / "n.exr").string()).exitCode, 0);
+    ImageData e = readImage(dir / "e.exr"), n = readImage(dir / "n.exr");
+    ASSERT_EQ(e.pixels.size(), n.pixels.size());
+    size_t differing = 0;
+    double maxDiff = 0, sum = 0;
+    for (size_t i = 0; i < e.pixels.size(); i += 3) {
+        double d = 0;
+        for (int c = 0; c < 3; ++c) d = std::max(d, double(std::fabs(e.pixels[i + c] - n.pixels[i + c])));
+        if (d > 1e-6) ++differing;
+        maxDiff = std::max(maxDiff, d);
+        sum += e.pixels[i];
+    }
+    const size_t pixels = e.pixels.size() / 3;
+    std::cout << "[ measured ] default scene, embree vs naive: " << differing << " of " << pixels
+              << " pixels differ by more than 1e-6; max difference " << maxDiff << "\n";
+    EXPECT_GT(sum / pixels, 0.01) << "the room is lit";
+    EXPECT_LE(differing, pixels / 1000);  // at most 0.1% of the pixels (grazing rays along box edges)
+    EXPECT_LT(maxDiff, 1e-2);
+}

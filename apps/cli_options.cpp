@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <vector>
 
@@ -70,7 +71,11 @@ ParseResult parseCommandLine(int argc, char** argv) {
     auto* oSpp = app.add_option("--spp", spp, "Camera samples per pixel (multi-jittered)");
     auto* oLs = app.add_option("--light-samples", lightSamples, "Area-light samples per light per shading point");
     auto* oDepth = app.add_option("--max-depth", maxDepth, "Maximum mirror bounces (0 = no reflection rays)");
-    auto* oSeed = app.add_option("--seed", seed, "Random seed");
+    // CLI11 would read "-1" into the unsigned seed as 2^64 - 1.
+    auto* oSeed = app.add_option("--seed", seed, "Random seed")
+                      ->check(CLI::Validator(
+                          [](std::string& v) { return !v.empty() && v[0] == '-' ? std::string("must be >= 0") : std::string(); },
+                          "UINT64"));
     auto* oThreads = app.add_option("--threads", threads, "Render threads (0 = all cores)");
     auto* oTile = app.add_option("--tile-size", tileSize, "Tile size in pixels");
     app.add_option("--accel", o.accel, "Accelerator: embree or naive")->capture_default_str();
@@ -94,7 +99,14 @@ ParseResult parseCommandLine(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return {std::nullopt, app.exit(e)};
+        // --help ends the program successfully; anything else is a usage error:
+        // one line, and exit code 2 (CLI11's own codes run from 100 to 115).
+        if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return {std::nullopt, app.exit(e)};
+        std::string msg = e.what();
+        for (char& c : msg)
+            if (c == '\n' || c == '\r') c = ' ';
+        std::fprintf(stderr, "penumbra: error: %s (see --help)\n", msg.c_str());
+        return {std::nullopt, 2};
     }
     if (oWidth->count()) o.width = width;
     if (oHeight->count()) o.height = height;

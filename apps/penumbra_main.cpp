@@ -122,7 +122,17 @@ void writeStatsJson(const std::filesystem::path& path, const Options& o, const R
     if (!out) throw Error(ErrorCode::IoError, path.string() + ": cannot write statistics");
 }
 
-int run(const Options& o) {
+/// Bytes the largest buffers of a render hold at once: the film, plus the
+/// float copy writeImage makes of it (10 channels for an EXR with AOVs, else 3).
+uint64_t peakImageBytes(const RenderSettings& s, bool exrWithAovs) {
+    const int64_t pixels = s.crop ? int64_t(s.crop->x1 - s.crop->x0) * (s.crop->y1 - s.crop->y0)
+                                  : int64_t(s.width) * s.height;
+    const uint64_t outputPerPixel = (exrWithAovs ? 10 : 3) * sizeof(float) + (s.aovs && !exrWithAovs ? 7 * sizeof(float) : 0);
+    return Film::bytesNeeded(pixels, s.aovs) + uint64_t(pixels) * outputPerPixel;
+}
+
+// `step` names what runs now, as the message for std::bad_alloc (which says nothing about where).
+int runSteps(const Options& o, std::string& step) {
     const auto t0 = std::chrono::steady_clock::now();
     precheck(o);
 
@@ -130,16 +140,17 @@ int run(const Options& o) {
     log.setMinLevel(LogLevel::Warning);
     LoadOptions loadOptions;
     loadOptions.strict = o.strict;
+    step = o.scene.string() + ": out of memory while loading the scene";
     LoadedScene loaded = loadScene(o.scene, loadOptions, log);
 
     RenderSettings settings = settingsFrom(o, loaded.settings);
     validateSettings(settings);
-    const uint64_t filmBytes = Film::bytesNeeded(int64_t(settings.width) * settings.height, settings.aovs);
+    const uint64_t imageBytes = peakImageBytes(settings, imageFormatFromPath(o.output) == ImageFormat::Exr && o.aovs);
     const uint64_t ram = physicalMemoryBytes();
-    if (ram && filmBytes > ram / 2)
+    if (ram && imageBytes > ram / 2)
         throw Error(ErrorCode::OutOfMemory, "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
-                                                " framebuffer needs " + std::to_string(filmBytes >> 20) +
-                                                " MiB, more than half of this machine's memory");
+                                                " image needs " + std::to_string(imageBytes >> 20) +
+                                                " MiB for its framebuffer and output, more than half of this machine's memory");
 
     CameraDesc camera;
     if (loaded.camera) {
@@ -158,6 +169,7 @@ int run(const Options& o) {
     prep.quality = o.buildQuality == "low" ? BuildQuality::Low
                    : o.buildQuality == "medium" ? BuildQuality::Medium
                                                 : BuildQuality::High;
+    step = o.scene.string() + ": out of memory while preparing the scene (acceleration structure, lights, textures)";
     PreparedScene prepared(std::move(loaded.scene), prep, log);
 
     std::signal(SIGINT, onSignal);
@@ -166,6 +178,8 @@ int run(const Options& o) {
     RenderControl control;
     control.cancel = &gInterrupted;
     control.progress = [&](size_t done, size_t total) { progress.update(done, total); };
+    step = "out of memory while rendering a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+           " image";
     Film film = makeFilm(settings);
     RenderStats stats = render(prepared, camera, settings, film, control);
     progress.finish();
@@ -178,6 +192,7 @@ int run(const Options& o) {
     wo.exposure = o.exposure;
     wo.aovs = o.aovs;
     wo.metadata = ImageMetadata{settings.spp, settings.seed, stats.renderSeconds, kSoftware};
+    step = o.output.string() + ": out of memory while writing the image";
     writeImage(o.output, film, wo);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!o.statsJson.empty()) writeStatsJson(o.statsJson, o, settings, prepared, stats, total);
@@ -199,6 +214,15 @@ int run(const Options& o) {
                     film.height(), settings.spp, total);
     }
     return 0;
+}
+
+int run(const Options& o) {
+    std::string step = "out of memory while checking the options";
+    try {
+        return runSteps(o, step);
+    } catch (const std::bad_alloc&) {
+        throw Error(ErrorCode::OutOfMemory, step);
+    }
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <new>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -35,7 +36,8 @@ namespace fs = std::filesystem;
 // a negative number; it is out of range for any real file, so the validation
 // below treats it like any other bad index.
 constexpr const char* kBadIndex = "2147483647";
-// tinyobjloader stores the corner count of a face in an unsigned char.
+// tinyobjloader stores the corner count of a face in an unsigned char; bigger
+// faces bypass it (BigFace).
 constexpr size_t kMaxFaceCorners = 255;
 // Ear clipping is cubic in the worst case; bigger polygons are fanned.
 constexpr size_t kMaxEarClipCorners = 512;
@@ -89,6 +91,24 @@ void stripBom(std::string& s) {
     if (s.size() >= 3 && s.compare(0, 3, "\xEF\xBB\xBF") == 0) s.erase(0, 3);
 }
 
+/// OBJ and MTL are text: a NUL byte means binary data (or UTF-16), which
+/// tinyobjloader would read as garbage. Returns "<line>: ..." naming the first one.
+std::optional<std::string> binaryDataProblem(std::string_view text) {
+    size_t z = text.find('\0');
+    if (z == std::string_view::npos) return std::nullopt;
+    size_t line = 1 + static_cast<size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(z), '\n'));
+    return std::to_string(line) + ": binary data (a NUL byte), not a text file";
+}
+
+/// A token from a file, made safe for a one-line message: printable ASCII
+/// only, and at most 40 characters.
+std::string printable(std::string_view tok) {
+    std::string out;
+    for (char ch : tok.substr(0, 40)) out += (ch >= 0x20 && ch < 0x7f) ? ch : '?';
+    if (tok.size() > 40) out += "...";
+    return out;
+}
+
 /// Splits text into lines the way tinyobjloader does (\n, \r\n or a lone \r).
 std::vector<std::string_view> splitLines(std::string_view text) {
     std::vector<std::string_view> lines;
@@ -131,21 +151,37 @@ std::optional<long long> parseIndex(std::string_view s) {
     return neg ? -v : v;
 }
 
+/// One face component as an absolute 1-based index, or INT_MAX (out of range
+/// for any real file) when it is zero, missing or resolves before the first element.
+long long absoluteIndex(std::string_view comp, size_t countSoFar) {
+    auto idx = parseIndex(comp);
+    if (!idx || *idx == 0) return INT_MAX;
+    if (*idx > 0) return *idx;
+    long long abs = static_cast<long long>(countSoFar) + *idx;  // relative: -1 = the last one so far
+    if (abs < 0) return INT_MAX;
+    return abs + 1;
+}
+
 /// One face component rewritten to an absolute 1-based index, or kBadIndex.
 std::string fixComponent(std::string_view comp, size_t countSoFar) {
-    auto idx = parseIndex(comp);
-    if (!idx || *idx == 0) return kBadIndex;
-    if (*idx > 0) return std::to_string(*idx);
-    long long abs = static_cast<long long>(countSoFar) + *idx;  // relative: -1 = the last one so far
-    if (abs < 0) return kBadIndex;
-    return std::to_string(abs + 1);
+    long long abs = absoluteIndex(comp, countSoFar);
+    return abs == INT_MAX ? std::string(kBadIndex) : std::to_string(abs);
 }
+
+/// A face with more corners than tinyobjloader can count: it parses a triangle
+/// in its place (keeping the shape, material and face order), and the loader
+/// takes the corners from here.
+struct BigFace {
+    size_t face;                           // index among the faces tinyobjloader reports
+    std::vector<tinyobj::index_t> corners;  // 0-based, -1 for no vt / vn, like tinyobjloader's
+};
 
 struct PreparedObj {
     std::string text;                 // what tinyobjloader parses
     std::vector<uint8_t> badVertex;   // per `v` line: a coordinate is not a finite number
     std::vector<uint32_t> faceLines;  // 1-based line of each face tinyobjloader will report, in order
-    size_t invalidFaces = 0;          // face lines removed (fewer than 3 or more than 255 corners)
+    std::vector<BigFace> bigFaces;    // faces of more than kMaxFaceCorners corners, in order
+    size_t invalidFaces = 0;          // face lines removed (fewer than 3 corners)
     uint32_t firstInvalidLine = 0;
 };
 
@@ -184,11 +220,14 @@ PreparedObj prepareObj(std::string_view text) {
             std::string_view body = tok.substr(2);
             body = body.substr(0, std::min(body.size(), body.find('#')));
             auto corners = splitBlank(body);
-            if (corners.size() < 3 || corners.size() > kMaxFaceCorners) {
+            if (corners.size() < 3) {
                 if (out.invalidFaces++ == 0) out.firstInvalidLine = lineNo;
             } else {
+                const bool big = corners.size() > kMaxFaceCorners;
+                if (big) out.bigFaces.push_back({out.faceLines.size(), {}});
                 std::string f = "f";
-                for (std::string_view c : corners) {
+                for (size_t ci = 0; ci < corners.size(); ++ci) {
+                    std::string_view c = corners[ci];
                     std::array<std::string_view, 3> comp{};
                     size_t k = 0, b = 0;
                     for (size_t i = 0; i <= c.size() && k < 3; ++i)
@@ -196,10 +235,18 @@ PreparedObj prepareObj(std::string_view text) {
                             comp[k++] = c.substr(b, i - b);
                             b = i + 1;
                         }
-                    f += ' ';
-                    f += fixComponent(comp[0], nv);
                     bool hasVt = k > 1 && !comp[1].empty();
                     bool hasVn = k > 2 && !comp[2].empty();
+                    if (big) {
+                        // INT_MAX - 1 as a 0-based index is out of range like kBadIndex.
+                        auto zeroBased = [](long long abs) { return static_cast<int>(abs - 1); };
+                        out.bigFaces.back().corners.push_back(
+                            {zeroBased(absoluteIndex(comp[0], nv)), hasVn ? zeroBased(absoluteIndex(comp[2], nvn)) : -1,
+                             hasVt ? zeroBased(absoluteIndex(comp[1], nvt)) : -1});
+                        if (ci >= 3) continue;  // tinyobjloader sees the first three corners only
+                    }
+                    f += ' ';
+                    f += fixComponent(comp[0], nv);
                     if (hasVt) f += "/" + fixComponent(comp[1], nvt);
                     if (hasVn) f += (hasVt ? "/" : "//") + fixComponent(comp[2], nvn);
                 }
@@ -285,6 +332,11 @@ public:
             return false;
         }
         stripBom(text);
+        if (auto bad = binaryDataProblem(text)) {
+            if (warn) *warn += "material library " + name(*file) + ":" + *bad + "; ignored\n";
+            return false;
+        }
+        checkNumbers(text, *file, warn);
         std::istringstream in(text);
         std::map<std::string, int> local;
         size_t begin = materials->size();
@@ -311,6 +363,30 @@ public:
     std::optional<Error> error;  // a refused path; rethrown after parsing
 
 private:
+    /// tinyobjloader reads a malformed number in an MTL statement as 0 without
+    /// a word; one warning per file names the first (line and token) and counts them.
+    static void checkNumbers(std::string_view text, const fs::path& file, std::string* warn) {
+        static constexpr std::string_view kNumeric[] = {"Ka", "Kd", "Ks", "Ke", "Kt", "Tf", "Ns", "Ni", "d", "Tr", "illum"};
+        size_t bad = 0;
+        std::string first;
+        uint32_t lineNo = 0;
+        for (std::string_view line : splitLines(text)) {
+            ++lineNo;
+            auto tok = splitBlank(trim(line));
+            if (tok.empty() || std::find(std::begin(kNumeric), std::end(kNumeric), tok[0]) == std::end(kNumeric)) continue;
+            for (size_t i = 1; i < tok.size() && i <= 3; ++i) {
+                if (tok[i][0] == '#') break;
+                if (finiteNumber(tok[i])) continue;
+                if (bad++ == 0)
+                    first = "line " + std::to_string(lineNo) + ": '" + printable(tok[i]) + "' in " + std::string(tok[0]);
+                break;
+            }
+        }
+        if (bad > 0 && warn)
+            *warn += name(file) + ": " + std::to_string(bad) +
+                     " statement(s) with a malformed or non-finite number, read as 0 (first at " + first + ")\n";
+    }
+
     fs::path dir_;
     const LoadOptions& options_;
 };
@@ -360,7 +436,7 @@ public:
         clamped = clamped || m.exponent != ns;
         if (clamped) log_.warn(where + ": negative or non-finite values replaced by 0 (Ns by 1)");
 
-        if (std::max({t.ambient[0], t.ambient[1], t.ambient[2]}) > 1.5f)
+        if (m.ka.maxComponent() > 1.5f)
             log_.warn(where + ": Ka " + rgbText(t.ambient) +
                       " looks like a light source; Penumbra takes emission from Ke only (add 'Ke " +
                       rgbText(t.ambient) + "' to make it emit)");
@@ -375,9 +451,12 @@ public:
             note(unknownIllum_, where, illum);
         }
 
-        for (const auto& [key, value] : t.unknown_parameter)
-            if (unknownKeys_.insert({name(mtl), key}).second)
-                log_.warn(name(mtl) + ": ignoring unknown MTL key '" + key + "'");
+        for (const auto& [key, value] : t.unknown_parameter) {
+            if (!unknownKeys_.insert({name(mtl), key}).second) continue;
+            // A few by name; past that (a binary or foreign file) one line counts the rest.
+            if (++unknownKeyCount_[name(mtl)] <= kMaxUnknownKeyWarnings)
+                log_.warn(name(mtl) + ": ignoring unknown MTL key '" + printable(key) + "'");
+        }
 
         if (!t.diffuse_texname.empty()) m.diffuseTexture = texture(t.diffuse_texname, mtl, where);
         return m;
@@ -402,6 +481,10 @@ public:
                       "); rendering the mirror part only");
         if (!unknownIllum_.empty())
             log_.warn(name(obj_) + ": unknown illum model (" + unknownIllum_ + "); using lit Phong");
+        for (const auto& [file, count] : unknownKeyCount_)
+            if (count > kMaxUnknownKeyWarnings)
+                log_.warn(file + ": ignoring " + std::to_string(count - kMaxUnknownKeyWarnings) +
+                          " more unknown MTL key(s)");
     }
 
 private:
@@ -440,7 +523,9 @@ private:
     const Logger& log_;
     std::optional<uint32_t> default_;
     std::string transparentIllum_, unknownIllum_;
+    static constexpr size_t kMaxUnknownKeyWarnings = 5;
     std::set<std::pair<std::string, std::string>> unknownKeys_;
+    std::map<std::string, size_t> unknownKeyCount_;
     std::set<std::string> missingTextures_;
 };
 
@@ -562,6 +647,7 @@ ObjStats appendObj(Scene& scene, const std::filesystem::path& objPath, const Tra
     checkPathAllowed(objPath, options);
     std::string text = readFile(objPath);
     stripBom(text);
+    if (auto bad = binaryDataProblem(text)) throw Error(ErrorCode::ParseError, file + ":" + *bad);
     PreparedObj prep = prepareObj(text);
     text.clear();
     text.shrink_to_fit();
@@ -621,7 +707,7 @@ ObjStats appendObj(Scene& scene, const std::filesystem::path& objPath, const Tra
 
     std::vector<Vec3f> poly;
     std::vector<std::array<uint32_t, 3>> tris;
-    size_t faceNo = 0;
+    size_t faceNo = 0, nextBig = 0;
     for (size_t si = 0; si < shapes.size(); ++si) {
         const tinyobj::mesh_t& sm = shapes[si].mesh;
         TriangleMesh mesh;
@@ -633,10 +719,15 @@ ObjStats appendObj(Scene& scene, const std::filesystem::path& objPath, const Tra
 
         size_t offset = 0;
         for (size_t f = 0; f < sm.num_face_vertices.size(); ++f, ++faceNo) {
-            const size_t n = sm.num_face_vertices[f];
+            size_t n = sm.num_face_vertices[f];
             if (offset + n > sm.indices.size()) break;  // cannot happen with tinyobjloader; guards the reads
             const tinyobj::index_t* c = &sm.indices[offset];
             offset += n;
+            if (haveLines && nextBig < prep.bigFaces.size() && prep.bigFaces[nextBig].face == faceNo) {
+                c = prep.bigFaces[nextBig].corners.data();
+                n = prep.bigFaces[nextBig].corners.size();
+                ++nextBig;
+            }
 
             bool good = n >= 3;
             for (size_t i = 0; i < n && good; ++i) {
@@ -741,8 +832,18 @@ ObjStats appendObj(Scene& scene, const std::filesystem::path& objPath, const Tra
 LoadedScene loadObjScene(const std::filesystem::path& path, const LoadOptions& options, const Logger& log) {
     LoadedScene loaded;
     loaded.sourcePath = path;
-    ObjStats stats = appendObj(loaded.scene, path, Transform(), options, log);
-    if (stats.triangles == 0) throw Error(ErrorCode::InvalidScene, name(path) + ": no faces to render");
+    ObjStats stats;
+    try {
+        stats = appendObj(loaded.scene, path, Transform(), options, log);
+    } catch (const std::bad_alloc&) {
+        throw Error(ErrorCode::OutOfMemory, name(path) + ": out of memory while loading the scene");
+    }
+    if (stats.triangles == 0)
+        throw Error(ErrorCode::InvalidScene,
+                    name(path) + ": no faces to render" +
+                        (stats.droppedFaces ? " (all " + std::to_string(stats.droppedFaces) +
+                                                  " face(s) or triangle(s) were invalid or degenerate)"
+                                            : std::string()));
     return loaded;
 }
 

@@ -30,10 +30,16 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 using Keys = std::initializer_list<std::string_view>;
 
+// Keys and names quoted in messages are cut to this many bytes: a message stays
+// readable however long the file's strings are.
+constexpr size_t kMaxQuoted = 64;
+
 /// Escapes one reference token of a JSON pointer (RFC 6901: '~' -> "~0", '/' -> "~1").
 std::string pointerToken(std::string_view key) {
     std::string out;
-    out.reserve(key.size());
+    const bool cut = key.size() > kMaxQuoted;
+    key = key.substr(0, kMaxQuoted);
+    out.reserve(key.size() + 3);
     for (char c : key) {
         if (c == '~')
             out += "~0";
@@ -42,7 +48,20 @@ std::string pointerToken(std::string_view key) {
         else
             out += c;
     }
+    if (cut) out += "...";
     return out;
+}
+
+/// A string from the file, in double quotes, cut to kMaxQuoted bytes.
+std::string quotedValue(std::string_view s) {
+    return "\"" + std::string(s.substr(0, kMaxQuoted)) + (s.size() > kMaxQuoted ? "...\"" : "\"");
+}
+
+/// Control characters (a JSON string may hold "\n") would split the one-line message.
+std::string oneLine(std::string s) {
+    for (char& c : s)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    return s;
 }
 
 std::string child(const std::string& ptr, std::string_view key) { return ptr + "/" + pointerToken(key); }
@@ -61,6 +80,16 @@ std::pair<size_t, size_t> lineColumn(const std::string& text, size_t offset) {
     return {line, offset - lineStart + 1};
 }
 
+/// Caps text quoted from the file (nlohmann quotes whole tokens: a 10 MB string
+/// or number would make a 10 MB message) and keeps the message on one line.
+std::string shortened(std::string s) {
+    constexpr size_t kMax = 200;
+    if (s.size() > kMax) s = s.substr(0, kMax) + "...";
+    for (char& c : s)
+        if (c == '\n' || c == '\r') c = ' ';
+    return s;
+}
+
 /// nlohmann's message without its "[json.exception...] parse error at line L, column C: "
 /// prefix (its line/column count the character after the error, so we compute our own).
 std::string parseErrorDetail(const std::string& what) {
@@ -70,7 +99,7 @@ std::string parseErrorDetail(const std::string& what) {
         if (auto colon = s.find(": "); colon != std::string::npos) s = s.substr(colon + 2);
     }
     if (s.rfind("syntax error ", 0) == 0) s = s.substr(13);
-    return s;
+    return shortened(s);
 }
 
 /// Where a number literal that overflowed (nlohmann reports no position for
@@ -111,7 +140,7 @@ public:
                 Frame& top = stack_.back();
                 top.key = parsed.get<std::string>();
                 if (!top.keys.insert(top.key).second)
-                    throw Error(ErrorCode::ParseError, file_ + ": " + pointer() + ": duplicate key");
+                    throw Error(ErrorCode::ParseError, oneLine(file_ + ": " + pointer() + ": duplicate key"));
                 break;
             }
             case E::value:
@@ -215,13 +244,13 @@ private:
     // ---- errors and basic accessors -------------------------------------------------
 
     [[noreturn]] void fail(ErrorCode code, const std::string& ptr, const std::string& msg) const {
-        throw Error(code, ptr.empty() ? file_ + ": " + msg : file_ + ": " + ptr + ": " + msg);
+        throw Error(code, oneLine(ptr.empty() ? file_ + ": " + msg : file_ + ": " + ptr + ": " + msg));
     }
 
     /// A problem that is skipped with a warning, or an error in strict mode.
     void warnOrFail(ErrorCode code, const std::string& ptr, const std::string& msg) const {
         if (options_.strict) fail(code, ptr, msg);
-        log_.warn(file_ + ": " + ptr + ": " + msg);
+        log_.warn(oneLine(file_ + ": " + ptr + ": " + msg));
     }
 
     static std::string typeName(const Json& j) {
@@ -410,7 +439,7 @@ private:
             else if (s == "power")
                 p.lightSelection = LightSelection::Power;
             else
-                fail(ErrorCode::InvalidScene, sp, "must be \"all\" or \"power\", got \"" + s + "\"");
+                fail(ErrorCode::InvalidScene, sp, "must be \"all\" or \"power\", got " + quotedValue(s));
         }
         return p;
     }
@@ -439,7 +468,7 @@ private:
     }
 
     void addMaterial(Material m, const std::string& ptr, Scene& scene) {
-        if (names_.count(m.name)) fail(ErrorCode::InvalidScene, ptr, "material \"" + m.name + "\" is defined twice");
+        if (names_.count(m.name)) fail(ErrorCode::InvalidScene, ptr, "material " + quotedValue(m.name) + " is defined twice");
         names_[m.name] = static_cast<uint32_t>(scene.materials.size());
         scene.materials.push_back(std::move(m));
     }
@@ -471,7 +500,7 @@ private:
             else if (s == "classic")
                 m.model = PhongModel::Classic;
             else
-                fail(ErrorCode::InvalidScene, mp, "must be \"normalized\" or \"classic\", got \"" + s + "\"");
+                fail(ErrorCode::InvalidScene, mp, "must be \"normalized\" or \"classic\", got " + quotedValue(s));
         }
         if (const Json* v = find(j, "texture")) m.diffuseTexture = texture(*v, child(ptr, "texture"), scene);
         return m;
@@ -518,7 +547,7 @@ private:
             std::string mp = child(ptr, "material");
             std::string name = string(*v, mp);
             auto it = names_.find(name);
-            if (it == names_.end()) fail(ErrorCode::InvalidScene, mp, "unknown material \"" + name + "\"");
+            if (it == names_.end()) fail(ErrorCode::InvalidScene, mp, "unknown material " + quotedValue(name));
             id = it->second;
         } else {
             id = defaultMaterial(scene);
@@ -616,7 +645,7 @@ private:
                 readInlineMesh(j, ptr, scene);
         } else {
             fail(ErrorCode::ParseError, child(ptr, "type"),
-                 "unknown shape type \"" + type + "\" (expected sphere, plane, box, rectangle, disk or mesh)");
+                 "unknown shape type " + quotedValue(type) + " (expected sphere, plane, box, rectangle, disk or mesh)");
         }
     }
 
@@ -807,7 +836,7 @@ private:
             scene.spheres.push_back(s);
         } else {
             fail(ErrorCode::ParseError, child(ptr, "type"),
-                 "unknown light type \"" + type + "\" (expected point, directional, ambient, rectangle, disk or sphere)");
+                 "unknown light type " + quotedValue(type) + " (expected point, directional, ambient, rectangle, disk or sphere)");
         }
     }
 

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "core/error.h"
@@ -20,10 +21,10 @@ std::vector<size_t> parseSizes(const std::string& text) {
         } catch (const std::exception&) {
             used = 0;
         }
-        // At least 4 triangles: the smallest closed sphere the generator makes.
-        if (used == 0 || used != item.size() || !std::isfinite(v) || v < 4 || v > 5e7 || v != std::floor(v))
+        // At least 6 triangles: the smallest closed sphere the generator makes.
+        if (used == 0 || used != item.size() || !std::isfinite(v) || v < 6 || v > 5e7 || v != std::floor(v))
             throw Error(ErrorCode::InvalidArgument,
-                        "--sizes: '" + item + "' is not a triangle count between 4 and 5e7");
+                        "--sizes: '" + item + "' is not a triangle count between 6 and 5e7");
         sizes.push_back(static_cast<size_t>(v));
     }
     if (sizes.empty()) throw Error(ErrorCode::InvalidArgument, "--sizes: expected a comma-separated list");
@@ -47,8 +48,10 @@ BenchParseResult parseBenchCommandLine(int argc, char** argv) {
     app.add_flag("--quick", o.quick, "Tiny sizes, ray counts and frame (the smoke test)");
     app.add_option("--threads", o.threads, "Threads of the multi-threaded runs (0 = all cores)")
         ->check(CLI::Range(0, 1024));
-    app.add_option("--rays", rays, "Camera rays per scene (default 262144; --quick 4096)");
-    app.add_option("--naive-max-rays", naiveMaxRays, "Most rays per kind the naive intersector answers (default 2048)");
+    app.add_option("--rays", rays, "Camera rays per scene (default 262144; --quick 4096)")
+        ->check(CLI::Range(size_t(16), size_t(1) << 26));
+    app.add_option("--naive-max-rays", naiveMaxRays, "Most rays per kind the naive intersector answers (default 2048)")
+        ->check(CLI::Range(size_t(16), size_t(1) << 26));
     app.add_option("--repetitions", reps, "Timed runs after the warm-up; the best counts (default 3)")
         ->check(CLI::Range(1, 100));
     app.add_option("--json", o.json, "Write all figures as JSON to this file");
@@ -58,13 +61,23 @@ BenchParseResult parseBenchCommandLine(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return {std::nullopt, app.exit(e)};
+        // CLI11 has its own codes per kind of error; ours are 0 (help) and 2.
+        const int code = app.exit(e);
+        return {std::nullopt, code == 0 ? 0 : 2};
     }
 
     o.defaultScene = defaultScene;
     o.mixed = !noMixed;
-    o.sizes = sizes.empty() ? (o.quick ? std::vector<size_t>{100, 1000} : std::vector<size_t>{100, 1000, 10000, 100000, 1000000})
-                            : parseSizes(sizes);
+    if (sizes.empty()) {
+        o.sizes = o.quick ? std::vector<size_t>{100, 1000} : std::vector<size_t>{100, 1000, 10000, 100000, 1000000};
+    } else {
+        try {
+            o.sizes = parseSizes(sizes);
+        } catch (const Error& e) {
+            std::fprintf(stderr, "%s\nRun with --help for more information.\n", e.what());
+            return {std::nullopt, 2};
+        }
+    }
     o.rays = rays ? rays : (o.quick ? 4096 : 262144);
     o.naiveMaxRays = naiveMaxRays ? naiveMaxRays : (o.quick ? 256 : 2048);
     o.naiveBudget = o.quick ? 2e6 : 5e7;

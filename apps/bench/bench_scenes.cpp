@@ -203,10 +203,8 @@ BenchScene defaultScene(const std::filesystem::path& obj, const Logger& log) {
     b.name = "cornell";
     b.family = SceneFamily::Default;
     b.scene = loadObjScene(obj, LoadOptions{}, log).scene;
-    // The camera documented in cornell.obj's header.
-    b.camera.eye = Vec3f{278.f, 273.f, -800.f};
-    b.camera.lookAt = Vec3f{278.f, 273.f, 0.f};
-    b.camera.vfovDegrees = 39.3f;
+    // Framed as the CLI frames OBJ files (the box is open towards the camera).
+    b.camera = frameObject(b.scene.bounds());
     return b;
 }
 

@@ -48,7 +48,7 @@ BenchScene proceduralScene(size_t triangles);
 /// `meshTriangles` triangles and a rectangle light.
 BenchScene mixedScene(size_t meshTriangles);
 
-/// The Cornell box OBJ with the camera its header documents.
+/// The default Cornell box OBJ, framed by frameObject as the CLI frames it.
 BenchScene defaultScene(const std::filesystem::path& obj, const Logger& log);
 
 /// Any OBJ placed on the floor of a room with a light, framed by frameObject.

@@ -1,0 +1,217 @@
+// penumbra-bench: Embree against the naive intersector and against raw Embree,
+// on ray sets generated once per scene and replayed identically.
+//   penumbra-bench [--sizes 1e2,1e3,...] [--obj FILE]... [--quick] [--threads N]
+//                  [--rays N] [--naive-max-rays N] [--json FILE] [--plot FILE.png] [--seed S]
+// Exit code 0 on success; 1 with a one-line error; 2 for usage errors; 3 when
+// the accelerators disagree on more than 0.01% of the rays.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <new>
+
+#include "bench_options.h"
+#include "bench_report.h"
+#include "bench_results.h"
+#include "core/error.h"
+#include "core/parallel.h"
+
+namespace penumbra::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kAgreementFailed = 3;
+// Triangle tests a naive frame may take (beyond it the frame is skipped).
+constexpr double kNaiveFrameBudget = 6e7;
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+bool onlyTriangles(const Scene& s) {
+    return s.spheres.empty() && s.planes.empty() && s.boxes.empty() && s.rectangles.empty() && s.disks.empty();
+}
+
+void checkOutputFolder(const std::filesystem::path& file, const char* option) {
+    if (file.empty()) return;
+    const auto dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
+    if (!std::filesystem::is_directory(dir))
+        throw Error(ErrorCode::IoError, std::string(option) + " " + file.string() + ": folder '" + dir.string() +
+                                            "' does not exist");
+}
+
+// Best of `reps` fresh builds; `build` returns the object so it is destroyed
+// outside the timed part.
+template <class Build>
+auto bestBuild(int reps, Build build, double& bestSeconds) {
+    bestSeconds = kInfinity;
+    decltype(build()) kept;
+    for (int i = 0; i < reps; ++i) {
+        const auto t0 = Clock::now();
+        auto made = build();
+        bestSeconds = std::min(bestSeconds, secondsSince(t0));
+        kept = std::move(made);
+    }
+    return kept;
+}
+
+SceneResult runScene(BenchScene bench, const BenchOptions& o, int threads, const Logger& log) {
+    SceneResult r;
+    r.name = bench.name;
+    r.family = bench.family;
+    const CameraDesc camera = bench.camera;
+    const PreparedScene prepared(std::move(bench.scene), PrepareOptions{"embree", BuildQuality::High}, log);
+    const Scene& scene = prepared.scene();
+    r.prepareSeconds = prepared.buildSeconds();
+    r.triangles = scene.triangleCount();
+    r.primitives = scene.primitiveCount();
+    r.lights = prepared.lights().size();
+    r.triangleOnly = onlyTriangles(scene);
+    const Accelerator& embree = prepared.accelerator();
+
+    // Builds, timed on their own (the prepared scene's accelerator answers the rays).
+    r.embree.present = true;
+    bestBuild(o.repetitions, [&] { return makeEmbreeAccelerator(scene); }, r.embree.buildSeconds);
+    r.embree.memoryBytes = embree.memoryBytes();
+
+    std::unique_ptr<RawEmbreeScene> raw;
+    if (r.triangleOnly && !scene.meshes.empty()) {
+        raw = bestBuild(o.repetitions, [&] { return std::make_unique<RawEmbreeScene>(scene); }, r.raw.buildSeconds);
+        r.raw.present = true;
+        r.raw.deviceSeconds = raw->deviceSeconds();
+        r.raw.memoryBytes = raw->memoryBytes();
+        r.raw.frame.note = "the raw harness renders no frames";
+    } else {
+        r.raw.note = "not measured: the scene has analytic shapes (the raw ceiling holds triangles only)";
+    }
+    const auto naive = makeNaiveAccelerator(scene);
+    r.naive.present = true;
+
+    const RaySets sets = makeRaySets(embree, prepared.lights(), camera, o.rays, o.seed, threads);
+    r.imageSide = sets.imageSide;
+    r.cameraHits = sets.cameraHits;
+    r.mirrorRays = sets.mirrorRays;
+    r.randomRays = sets.randomRays;
+
+    const double perRay = double(std::max<size_t>(1, r.primitives));
+    const size_t naiveRays = std::clamp<size_t>(size_t(o.naiveBudget / perRay), 16, std::max<size_t>(16, o.naiveMaxRays));
+    for (RayKind kind : kRayKinds) {
+        const size_t k = size_t(kind);
+        const auto& rays = sets.of(kind);
+        const bool occlusion = isOcclusion(kind);
+        r.setRays[k] = rays.size();
+        std::vector<size_t> all(rays.size());
+        for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+
+        Answers reference;
+        r.embree.kinds[k] = measureAccelerator(embree, rays, occlusion, threads, o.repetitions, true, reference);
+
+        if (raw) {
+            Answers answers;
+            r.raw.kinds[k] = measureRaw(*raw, rays, occlusion, 1, threads, o.repetitions, answers);
+            r.rawVsEmbree[k] += compareAnswers(reference, answers, all, occlusion, rayKindName(kind));
+            if (kind != RayKind::Incoherent) {
+                for (int width : {8, 16}) {
+                    PacketFigures p;
+                    p.width = width;
+                    p.kind = kind;
+                    p.native = raw->nativePacket(width);
+                    p.rate = measureRaw(*raw, rays, occlusion, width, threads, o.repetitions, answers);
+                    const std::string what = std::string(rayKindName(kind)) + " x" + std::to_string(width);
+                    r.rawVsEmbree[k] += compareAnswers(reference, answers, all, occlusion, what.c_str());
+                    r.packets.push_back(p);
+                }
+            }
+        }
+
+        // The naive loop answers an evenly spread subset, once (its time is
+        // long and steady enough that repetitions add nothing).
+        const std::vector<size_t> subset = spreadSubset(rays.size(), naiveRays);
+        std::vector<Ray> subsetRays;
+        subsetRays.reserve(subset.size());
+        for (size_t i : subset) subsetRays.push_back(rays[i]);
+        Answers answers;
+        r.naive.kinds[k] = measureAccelerator(*naive, subsetRays, occlusion, threads, 1, false, answers);
+        r.naiveVsEmbree[k] = compareAnswers(reference, answers, subset, occlusion, rayKindName(kind));
+    }
+
+    RenderSettings st;
+    st.width = o.frameWidth;
+    st.height = o.frameHeight;
+    st.spp = o.frameSpp;
+    st.lightSamples = o.frameLightSamples;
+    st.maxDepth = o.frameMaxDepth;
+    st.seed = o.seed;
+    st.aovs = false;
+    r.embree.frame = measureFrame(prepared, camera, st, threads, o.repetitions);
+    const double naiveTests = double(r.embree.frame.rays.total()) * perRay;
+    if (naiveTests <= kNaiveFrameBudget) {
+        const PreparedScene naivePrepared(Scene(scene), PrepareOptions{"naive", BuildQuality::High}, log);
+        r.naive.frame = measureFrame(naivePrepared, camera, st, threads, 1);
+    } else {
+        char note[128];
+        std::snprintf(note, sizeof note, "frame skipped: about %.1e triangle tests", naiveTests);
+        r.naive.frame.note = note;
+    }
+    return r;
+}
+
+int run(const BenchOptions& o) {
+    const auto t0 = Clock::now();
+    checkOutputFolder(o.json, "--json");
+    checkOutputFolder(o.plot, "--plot");
+    Logger log;
+    log.setMinLevel(LogLevel::Warning);
+    const int threads = o.threads > 0 ? o.threads : hardwareThreads();
+
+    // Scenes are made one at a time so the largest never share memory.
+    std::vector<std::function<BenchScene()>> makers;
+    for (size_t n : o.sizes) makers.push_back([n] { return proceduralScene(n); });
+    if (o.mixed) makers.push_back([&o] { return mixedScene(o.quick ? 1000 : 10000); });
+    if (!o.defaultScene.empty()) makers.push_back([&] { return defaultScene(o.defaultScene, log); });
+    for (const auto& obj : o.objs) makers.push_back([&] { return objInRoom(obj, log); });
+
+    std::vector<SceneResult> results;
+    for (const auto& make : makers) {
+        const auto ts = Clock::now();
+        results.push_back(runScene(make(), o, threads, log));
+        std::fprintf(stderr, "penumbra-bench: %s (%zu triangles) done in %.1f s\n", results.back().name.c_str(),
+                     results.back().triangles, secondsSince(ts));
+    }
+
+    RunInfo info = describeMachine(threads);
+    info.totalSeconds = secondsSince(t0);
+    std::printf("\n");
+    printReport(stdout, results, o, info);
+    if (!o.json.empty()) {
+        std::ofstream out(o.json);
+        out << toJson(results, o, info).dump(2) << "\n";
+        if (!out) throw Error(ErrorCode::IoError, o.json.string() + ": cannot write");
+    }
+    if (!o.plot.empty()) {
+        const std::string problem = writePlot(o.plot, results, info);
+        if (!problem.empty()) std::fprintf(stderr, "penumbra-bench: warning: %s\n", problem.c_str());
+    }
+    std::printf("total %.1f s\n", secondsSince(t0));
+    return summarizeAgreement(results).passed() ? 0 : kAgreementFailed;
+}
+
+}  // namespace
+}  // namespace penumbra::bench
+
+int main(int argc, char** argv) {
+    using namespace penumbra;
+    try {
+        auto parsed = bench::parseBenchCommandLine(argc, argv);
+        if (!parsed.options) return parsed.exitCode;
+        return bench::run(*parsed.options);
+    } catch (const Error& e) {
+        std::fprintf(stderr, "penumbra-bench: error: %s\n", e.what());
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "penumbra-bench: error: out of memory\n");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "penumbra-bench: error: %s\n", e.what());
+    }
+    return 1;
+}

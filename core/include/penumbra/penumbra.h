@@ -1,0 +1,326 @@
+/* Penumbra's C embedding API: opaque handles, plain C types, status codes.
+ * Usable from C99 and C++. See docs/embedding.md.
+ *
+ * Conventions
+ * - Every function that can fail returns a pnb_status (PNB_OK = 0). Objects
+ *   are created through an out-pointer, which is set to NULL on failure.
+ * - On failure the message (naming the file and line or JSON path where that
+ *   applies) is kept in two places: on the handle the call was made on (read
+ *   it with pnb_<handle>_last_error) and in a per-thread slot, pnb_last_error(),
+ *   which also covers calls that have no handle yet (creation, NULL handles).
+ *   Successful calls leave both untouched. The strings stay valid until the
+ *   next failing call on that handle / thread.
+ * - NULL handles and bad arguments give PNB_ERROR_INVALID_ARGUMENT; nothing
+ *   crosses this API as a C++ exception.
+ * - pnb_*_destroy(NULL) does nothing. Borrowed pointers (a job's framebuffer,
+ *   the framebuffer given to callbacks) must not be destroyed.
+ * - Threads: a handle is used by one thread at a time, with these exceptions:
+ *   a pnb_prepared_scene may be rendered by several threads and renderers at
+ *   once, and pnb_render_job_progress/cancel/done may be called from any
+ *   thread. Separate handles share nothing: two renderers may run at once. */
+#ifndef PENUMBRA_H
+#define PENUMBRA_H
+
+#include <penumbra/version.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(__GNUC__) || defined(__clang__)
+#define PNB_API __attribute__((visibility("default")))
+#else
+#define PNB_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------ status */
+
+typedef enum pnb_status {
+    PNB_OK = 0,
+    PNB_ERROR_INVALID_ARGUMENT = 1, /* bad argument, setting or NULL handle */
+    PNB_ERROR_FILE_NOT_FOUND = 2,
+    PNB_ERROR_PARSE = 3,            /* malformed OBJ/MTL/JSON content */
+    PNB_ERROR_INVALID_SCENE = 4,    /* scene content that cannot be rendered */
+    PNB_ERROR_IO = 5,               /* reading or writing failed */
+    PNB_ERROR_OUT_OF_MEMORY = 6,
+    PNB_ERROR_CANCELLED = 7,        /* the host cancelled the render */
+    PNB_ERROR_EMBREE = 8,           /* the ray-tracing kernel reported an error */
+    PNB_ERROR_INTERNAL = 9
+} pnb_status;
+
+/* Short English name of a status ("invalid argument", ...). */
+PNB_API const char* pnb_status_name(pnb_status status);
+/* Message of the calling thread's most recent failing call ("" if none). */
+PNB_API const char* pnb_last_error(void);
+/* Version of the library actually loaded, e.g. "0.1.0". */
+PNB_API const char* pnb_version(void);
+
+/* ------------------------------------------------------------ handles */
+
+typedef struct pnb_renderer pnb_renderer;             /* logging context; loads, prepares, renders */
+typedef struct pnb_scene pnb_scene;                   /* editable scene description */
+typedef struct pnb_prepared_scene pnb_prepared_scene; /* immutable, ready to render */
+typedef struct pnb_framebuffer pnb_framebuffer;       /* accumulated samples (+ AOVs) */
+typedef struct pnb_render_job pnb_render_job;         /* an asynchronous render */
+
+/* ------------------------------------------------------------ plain types */
+
+typedef struct pnb_vec3 {
+    float x, y, z;
+} pnb_vec3;
+
+typedef struct pnb_color {
+    float r, g, b;
+} pnb_color;
+
+typedef enum pnb_log_level { PNB_LOG_DEBUG = 0, PNB_LOG_INFO = 1, PNB_LOG_WARNING = 2, PNB_LOG_ERROR = 3 } pnb_log_level;
+
+/* Receives library messages; may be called from render threads. */
+typedef void (*pnb_log_fn)(pnb_log_level level, const char* message, void* user);
+
+typedef enum pnb_phong_model { PNB_PHONG_NORMALIZED = 0, PNB_PHONG_CLASSIC = 1 } pnb_phong_model;
+
+/* Phong material; fill with pnb_material_init first. */
+typedef struct pnb_material {
+    const char* name;              /* may be NULL */
+    pnb_color ka, kd, ks;          /* ambient, diffuse, specular reflectance */
+    float exponent;                /* Phong exponent n */
+    pnb_color kr;                  /* mirror reflectance */
+    pnb_color ke;                  /* emitted radiance (an area light) */
+    int two_sided_emission;
+    pnb_phong_model model;
+    const char* diffuse_texture;   /* image path multiplying kd through mesh UVs; NULL = none */
+} pnb_material;
+
+/* A triangle mesh in host arrays (copied by pnb_scene_add_mesh); fill with pnb_mesh_desc_init first. */
+typedef struct pnb_mesh_desc {
+    const char* name;               /* may be NULL */
+    const float* positions;         /* 3 floats per vertex */
+    size_t vertex_count;
+    const uint32_t* indices;        /* 3 per triangle, counter-clockwise = front */
+    size_t triangle_count;
+    const float* normals;           /* optional (NULL): 3 per vertex */
+    const float* uvs;               /* optional (NULL): 2 per vertex */
+    const uint32_t* face_materials; /* optional (NULL): one per triangle */
+    uint32_t material;              /* used when face_materials is NULL */
+} pnb_mesh_desc;
+
+typedef struct pnb_camera {
+    pnb_vec3 eye, look_at, up;
+    float vfov_degrees;
+    float aperture;       /* lens radius; 0 = pinhole */
+    float focus_distance; /* 0 = distance from eye to look_at */
+} pnb_camera;
+
+typedef enum pnb_light_selection { PNB_LIGHTS_ALL = 0, PNB_LIGHTS_POWER = 1 } pnb_light_selection;
+
+/* Fill with pnb_render_settings_init first. */
+typedef struct pnb_render_settings {
+    int width, height;
+    int spp;           /* camera samples per pixel */
+    int light_samples; /* area-light samples per light per shading point */
+    int max_depth;     /* mirror bounces */
+    uint64_t seed;
+    int threads;       /* 0 = all cores */
+    int tile_size;
+    int use_crop;      /* nonzero: render only [crop_x0, crop_x1) x [crop_y0, crop_y1) */
+    int crop_x0, crop_y0, crop_x1, crop_y1;
+    pnb_light_selection light_selection;
+    int aovs;          /* nonzero: framebuffers also hold albedo, normal, depth */
+} pnb_render_settings;
+
+typedef struct pnb_load_options {
+    int strict;                       /* skippable problems become errors */
+    int restrict_paths;               /* default 1: read only below the scene's folder and allowed_roots */
+    const char* const* allowed_roots; /* further folders (may be NULL) */
+    size_t allowed_root_count;
+} pnb_load_options;
+
+typedef enum pnb_build_quality { PNB_BUILD_LOW = 0, PNB_BUILD_MEDIUM = 1, PNB_BUILD_HIGH = 2 } pnb_build_quality;
+
+typedef struct pnb_prepare_options {
+    const char* accelerator; /* "embree" (default when NULL) or "naive" */
+    pnb_build_quality quality;
+} pnb_prepare_options;
+
+typedef struct pnb_prepared_info {
+    size_t primitive_count, triangle_count, light_count;
+    size_t dropped_triangles, dropped_shapes;
+    double build_seconds;
+} pnb_prepared_info;
+
+typedef struct pnb_image_options {
+    float exposure; /* stops; PNG/JPG/TIF only */
+    int aovs;       /* EXR: extra channels; others: a sibling <stem>.aovs.exr */
+} pnb_image_options;
+
+typedef struct pnb_render_stats {
+    uint64_t camera_rays, shadow_rays, reflection_rays, invalid_rays, non_finite_samples;
+    double render_seconds, mrays_per_second;
+    uint32_t samples_per_pixel;
+    int threads;
+} pnb_render_stats;
+
+/* Hooks for a synchronous render; fill with zeros or pnb_render_callbacks_init. progress gets the
+ * fraction done after each tile (the last call gives exactly 1) on a render thread, never
+ * concurrently with itself; returning nonzero cancels the render (it then returns PNB_ERROR_CANCELLED). */
+typedef struct pnb_render_callbacks {
+    int (*progress)(double fraction, void* user);
+    void* user;
+} pnb_render_callbacks;
+
+/* Options of an asynchronous render; fill with pnb_async_options_init. Callbacks run on the job's
+ * threads. on_pass sees the image after each pass of pass_samples samples (0 = one pass), while
+ * nothing writes it. on_complete runs once when the job ends, before pnb_render_job_wait returns,
+ * with the outcome, its message ("" on success) and the image (NULL unless it finished); it must
+ * not wait on its own job. */
+typedef struct pnb_async_options {
+    void (*progress)(double fraction, void* user);
+    uint32_t pass_samples;
+    void (*on_pass)(const pnb_framebuffer* image, uint32_t samples_done, void* user);
+    void (*on_complete)(pnb_status status, const char* message, const pnb_framebuffer* image, void* user);
+    void* user;
+} pnb_async_options;
+
+/* Defaults (the same as the C++ API's). NULL pointers are ignored. */
+PNB_API void pnb_material_init(pnb_material* material);
+PNB_API void pnb_mesh_desc_init(pnb_mesh_desc* mesh);
+PNB_API void pnb_camera_init(pnb_camera* camera);
+PNB_API void pnb_render_settings_init(pnb_render_settings* settings);
+PNB_API void pnb_load_options_init(pnb_load_options* options);
+PNB_API void pnb_prepare_options_init(pnb_prepare_options* options);
+PNB_API void pnb_image_options_init(pnb_image_options* options);
+PNB_API void pnb_render_callbacks_init(pnb_render_callbacks* callbacks);
+PNB_API void pnb_async_options_init(pnb_async_options* options);
+
+/* Checks settings / a camera; the message names the offending value. */
+PNB_API pnb_status pnb_render_settings_validate(const pnb_render_settings* settings);
+PNB_API pnb_status pnb_camera_validate(const pnb_camera* camera);
+
+/* ------------------------------------------------------------ renderer */
+
+/* A renderer logging warnings and errors to stderr. */
+PNB_API pnb_status pnb_renderer_create(pnb_renderer** out);
+PNB_API void pnb_renderer_destroy(pnb_renderer* renderer);
+/* Sends messages of at least min_level to fn (NULL fn: stderr). */
+PNB_API pnb_status pnb_renderer_set_log(pnb_renderer* renderer, pnb_log_fn fn, void* user, pnb_log_level min_level);
+PNB_API const char* pnb_renderer_last_error(const pnb_renderer* renderer);
+
+/* ------------------------------------------------------------ scene */
+
+PNB_API pnb_status pnb_scene_create(pnb_scene** out);
+/* Reads a .json or .obj file (options NULL: defaults, paths restricted to the file's folder). */
+PNB_API pnb_status pnb_scene_load(pnb_renderer* renderer, const char* path, const pnb_load_options* options,
+                                  pnb_scene** out);
+PNB_API pnb_status pnb_scene_clone(const pnb_scene* scene, pnb_scene** out);
+PNB_API void pnb_scene_destroy(pnb_scene* scene);
+PNB_API const char* pnb_scene_last_error(const pnb_scene* scene);
+
+/* Material ids are what pnb_scene_add_material returned; before any material is added, id 0 is a default grey. */
+PNB_API pnb_status pnb_scene_add_material(pnb_scene* scene, const pnb_material* material, uint32_t* out_id);
+PNB_API pnb_status pnb_scene_add_sphere(pnb_scene* scene, pnb_vec3 center, float radius, uint32_t material);
+PNB_API pnb_status pnb_scene_add_plane(pnb_scene* scene, pnb_vec3 point, pnb_vec3 normal, int two_sided,
+                                       uint32_t material);
+/* world_from_object: 12 floats, a row-major 3x4 affine matrix; NULL = axis-aligned. */
+PNB_API pnb_status pnb_scene_add_box(pnb_scene* scene, pnb_vec3 lo, pnb_vec3 hi, const float* world_from_object,
+                                     uint32_t material);
+PNB_API pnb_status pnb_scene_add_rectangle(pnb_scene* scene, pnb_vec3 corner, pnb_vec3 edge_a, pnb_vec3 edge_b,
+                                           uint32_t material);
+PNB_API pnb_status pnb_scene_add_disk(pnb_scene* scene, pnb_vec3 center, pnb_vec3 normal, float radius,
+                                      uint32_t material);
+PNB_API pnb_status pnb_scene_add_mesh(pnb_scene* scene, const pnb_mesh_desc* mesh);
+PNB_API pnb_status pnb_scene_add_point_light(pnb_scene* scene, pnb_vec3 position, pnb_color intensity);
+PNB_API pnb_status pnb_scene_add_directional_light(pnb_scene* scene, pnb_vec3 direction, pnb_color irradiance);
+PNB_API pnb_status pnb_scene_set_ambient(pnb_scene* scene, pnb_color ambient);
+PNB_API pnb_status pnb_scene_set_background(pnb_scene* scene, pnb_color background);
+PNB_API pnb_status pnb_scene_set_camera(pnb_scene* scene, const pnb_camera* camera);
+/* The scene file's camera (or set_camera's): *has_camera = 0 when there is none. */
+PNB_API pnb_status pnb_scene_get_camera(const pnb_scene* scene, pnb_camera* out, int* has_camera);
+/* The scene's camera, else one looking along -z that frames its bounds. */
+PNB_API pnb_status pnb_scene_default_camera(const pnb_scene* scene, float aspect, float vfov_degrees,
+                                            pnb_camera* out);
+/* Default settings with the scene file's "render" block applied. */
+PNB_API pnb_status pnb_scene_get_settings(const pnb_scene* scene, pnb_render_settings* out);
+/* Shapes plus triangles (0 for NULL). */
+PNB_API size_t pnb_scene_primitive_count(const pnb_scene* scene);
+
+/* ------------------------------------------------------------ prepared scene */
+
+/* Validates the scene and builds its BVH and light tables (the scene is copied: it stays usable). */
+PNB_API pnb_status pnb_prepare(pnb_renderer* renderer, const pnb_scene* scene, const pnb_prepare_options* options,
+                               pnb_prepared_scene** out);
+/* Running jobs keep the prepared data alive after this. */
+PNB_API void pnb_prepared_scene_destroy(pnb_prepared_scene* prepared);
+PNB_API pnb_status pnb_prepared_scene_get_info(const pnb_prepared_scene* prepared, pnb_prepared_info* out);
+PNB_API pnb_status pnb_prepared_scene_default_camera(const pnb_prepared_scene* prepared, float aspect,
+                                                     float vfov_degrees, pnb_camera* out);
+PNB_API pnb_status pnb_prepared_scene_get_settings(const pnb_prepared_scene* prepared, pnb_render_settings* out);
+
+/* ------------------------------------------------------------ framebuffer */
+
+/* A framebuffer matching the settings (size, crop, AOVs); PNB_ERROR_OUT_OF_MEMORY when it would need
+ * more than half the machine's memory. */
+PNB_API pnb_status pnb_framebuffer_create(const pnb_render_settings* settings, pnb_framebuffer** out);
+PNB_API void pnb_framebuffer_destroy(pnb_framebuffer* image);
+PNB_API const char* pnb_framebuffer_last_error(const pnb_framebuffer* image);
+/* Size of the window held (0 for NULL) and samples per pixel so far. */
+PNB_API int pnb_framebuffer_width(const pnb_framebuffer* image);
+PNB_API int pnb_framebuffer_height(const pnb_framebuffer* image);
+PNB_API uint32_t pnb_framebuffer_sample_count(const pnb_framebuffer* image);
+/* Averaged values, row 0 on top: RGBA (4 floats per pixel, alpha 1), albedo and normals (3),
+ * depth (1). count is the number of floats dst holds. */
+PNB_API pnb_status pnb_framebuffer_read_rgba(const pnb_framebuffer* image, float* dst, size_t count);
+PNB_API pnb_status pnb_framebuffer_read_albedo(const pnb_framebuffer* image, float* dst, size_t count);
+PNB_API pnb_status pnb_framebuffer_read_normals(const pnb_framebuffer* image, float* dst, size_t count);
+PNB_API pnb_status pnb_framebuffer_read_depth(const pnb_framebuffer* image, float* dst, size_t count);
+PNB_API pnb_status pnb_framebuffer_pixel(const pnb_framebuffer* image, int x, int y, pnb_color* out);
+PNB_API pnb_status pnb_framebuffer_clear(pnb_framebuffer* image);
+/* .exr/.hdr/.pfm linear; .png/.jpg/.tif exposure-scaled and sRGB-encoded (options NULL: defaults). */
+PNB_API pnb_status pnb_framebuffer_write_image(const pnb_framebuffer* image, const char* path,
+                                               const pnb_image_options* options);
+
+/* ------------------------------------------------------------ rendering */
+
+/* Renders the samples `image` is missing, [sample_count, spp). callbacks and stats may be NULL. */
+PNB_API pnb_status pnb_render(pnb_renderer* renderer, const pnb_prepared_scene* prepared, const pnb_camera* camera,
+                              const pnb_render_settings* settings, pnb_framebuffer* image,
+                              const pnb_render_callbacks* callbacks, pnb_render_stats* stats);
+/* Renders all samples and writes RGBA floats (4 per pixel of the render window) into rgba. */
+PNB_API pnb_status pnb_render_rgba(pnb_renderer* renderer, const pnb_prepared_scene* prepared,
+                                   const pnb_camera* camera, const pnb_render_settings* settings, float* rgba,
+                                   size_t count, const pnb_render_callbacks* callbacks, pnb_render_stats* stats);
+/* One progressive pass: adds samples [first_sample, first_sample + sample_count) to `image`, which must
+ * hold exactly first_sample samples. Passes covering [0, spp) give the one-shot image bit for bit. A
+ * cancelled pass leaves `image` partial: clear it before rendering into it again. */
+PNB_API pnb_status pnb_render_pass(pnb_renderer* renderer, const pnb_prepared_scene* prepared,
+                                   const pnb_camera* camera, const pnb_render_settings* settings,
+                                   pnb_framebuffer* image, uint32_t first_sample, uint32_t sample_count,
+                                   const pnb_render_callbacks* callbacks, pnb_render_stats* stats);
+
+/* Starts rendering all samples on a thread of its own (options may be NULL). */
+PNB_API pnb_status pnb_render_async(pnb_renderer* renderer, const pnb_prepared_scene* prepared,
+                                    const pnb_camera* camera, const pnb_render_settings* settings,
+                                    const pnb_async_options* options, pnb_render_job** out);
+/* Fraction done, 0 to 1 (0 for NULL). */
+PNB_API double pnb_render_job_progress(const pnb_render_job* job);
+/* Asks the job to stop; it does within a fraction of a second. */
+PNB_API pnb_status pnb_render_job_cancel(pnb_render_job* job);
+PNB_API int pnb_render_job_done(const pnb_render_job* job);
+/* Blocks until the job ends; returns its outcome: PNB_OK, PNB_ERROR_CANCELLED or the failure. */
+PNB_API pnb_status pnb_render_job_wait(pnb_render_job* job);
+/* Waits at most timeout_ms; *done tells whether it ended. */
+PNB_API pnb_status pnb_render_job_wait_for(pnb_render_job* job, uint32_t timeout_ms, int* done);
+/* Waits, then lends the finished image (valid until the job is destroyed). */
+PNB_API pnb_status pnb_render_job_framebuffer(pnb_render_job* job, const pnb_framebuffer** out);
+PNB_API pnb_status pnb_render_job_stats(pnb_render_job* job, pnb_render_stats* out);
+/* Cancels a running job and waits for it. */
+PNB_API void pnb_render_job_destroy(pnb_render_job* job);
+PNB_API const char* pnb_render_job_last_error(const pnb_render_job* job);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PENUMBRA_H */

@@ -1,0 +1,526 @@
+// Penumbra's C++ embedding API (namespace pnb). Only standard types cross it;
+// Embree, TBB, OpenImageIO and the renderer's internal headers stay inside the
+// library. Usable from C++17 and later. See docs/embedding.md.
+//
+// The flow: build a Scene in code (or Renderer::loadScene a JSON/OBJ file),
+// Renderer::prepare it once (validation, BVH, light tables), then render it as
+// often as needed: whole images, progressive passes into a Framebuffer, or
+// asynchronously with renderAsync. Objects share no global state, so several
+// renderers can work in one process at the same time.
+#pragma once
+
+#include <penumbra/version.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#if defined(__GNUC__) || defined(__clang__)
+#define PENUMBRA_API __attribute__((visibility("default")))
+#else
+#define PENUMBRA_API
+#endif
+
+namespace pnb {
+
+namespace detail {
+struct Access;  // the library's way to the hidden implementations
+}
+
+/// Version of the library actually loaded ("0.1.0"); PENUMBRA_VERSION is the
+/// version of the headers a host was compiled with.
+PENUMBRA_API const char* version() noexcept;
+
+// ---------------------------------------------------------------- errors
+
+/// What went wrong; the values equal the C API's pnb_status codes.
+enum class ErrorCode {
+    InvalidArgument = 1,  ///< bad argument, setting or handle
+    FileNotFound = 2,
+    ParseError = 3,       ///< malformed OBJ/MTL/JSON content
+    InvalidScene = 4,     ///< scene content that cannot be rendered
+    IoError = 5,          ///< reading or writing failed
+    OutOfMemory = 6,
+    Cancelled = 7,        ///< the host cancelled the render
+    Embree = 8,           ///< the ray-tracing kernel reported an error
+    Internal = 9,         ///< a bug, or an exception from a host callback
+};
+
+/// Short English name of a code ("invalid argument", ...).
+PENUMBRA_API const char* errorCodeName(ErrorCode code) noexcept;
+
+/// The one exception type the API throws. what() names the file and line or
+/// JSON path where that applies ("scene.json: /shapes/3/radius: must be > 0").
+class PENUMBRA_API Error : public std::runtime_error {
+public:
+    Error(ErrorCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
+    Error(const Error&) = default;
+    Error& operator=(const Error&) = default;
+    ~Error() override;
+    /// The kind of failure.
+    ErrorCode code() const noexcept { return code_; }
+
+private:
+    ErrorCode code_;
+};
+
+// ---------------------------------------------------------------- logging
+
+enum class LogLevel { Debug = 0, Info = 1, Warning = 2, Error = 3 };
+
+/// Receives the library's messages (loader warnings, scene repairs, ...).
+/// May be called from render threads; never concurrently for one render.
+using LogCallback = std::function<void(LogLevel level, std::string_view message)>;
+
+// ---------------------------------------------------------------- values
+
+struct Vec3 {
+    float x = 0.f, y = 0.f, z = 0.f;
+};
+
+/// Linear RGB (reflectance, radiance, intensity or irradiance by context).
+struct Color {
+    float r = 0.f, g = 0.f, b = 0.f;
+};
+
+/// The same value in all three channels.
+constexpr Color gray(float v) { return Color{v, v, v}; }
+
+/// Affine map as a row-major 3x4 matrix: p' = M * (p, 1). Default: identity.
+struct Matrix3x4 {
+    float m[3][4] = {{1.f, 0.f, 0.f, 0.f}, {0.f, 1.f, 0.f, 0.f}, {0.f, 0.f, 1.f, 0.f}};
+
+    PENUMBRA_API static Matrix3x4 translate(const Vec3& t);
+    PENUMBRA_API static Matrix3x4 scale(const Vec3& s);
+    /// Rotation by `degrees` about `axis` (right-handed).
+    PENUMBRA_API static Matrix3x4 rotate(float degrees, const Vec3& axis);
+    /// this * other: `other` applies first.
+    PENUMBRA_API Matrix3x4 operator*(const Matrix3x4& other) const;
+};
+
+enum class PhongModel {
+    /// f = kd/pi + ks (n+2)/(2 pi) cos^n: energy-conserving when kd + ks <= 1.
+    Normalized,
+    /// The lecture's empirical L = ka La + sum kd Lj (n.l) + ks Lj (v.r)^n.
+    Classic,
+};
+
+/// Phong material (docs/rendering.md). Coefficients are linear RGB in [0, inf).
+struct Material {
+    std::string name;
+    Color ka{0.f, 0.f, 0.f};    ///< ambient reflectance (times the scene's ambient light)
+    Color kd{0.8f, 0.8f, 0.8f}; ///< diffuse albedo
+    Color ks{0.f, 0.f, 0.f};    ///< specular (Phong lobe) reflectance
+    float exponent = 1.f;       ///< Phong exponent n
+    Color kr{0.f, 0.f, 0.f};    ///< mirror reflectance
+    Color ke{0.f, 0.f, 0.f};    ///< emitted radiance: makes the surface an area light
+    bool twoSidedEmission = false;
+    PhongModel model = PhongModel::Normalized;
+    std::string diffuseTexture;  ///< image multiplying kd through the mesh UVs; empty = none
+};
+
+/// Index of a material in its scene, as returned by Scene::addMaterial.
+using MaterialId = std::uint32_t;
+
+/// A triangle mesh given as arrays the host owns; Scene::addMesh copies them.
+struct MeshDesc {
+    std::string name;
+    const float* positions = nullptr;            ///< 3 floats per vertex
+    std::size_t vertexCount = 0;
+    const std::uint32_t* indices = nullptr;      ///< 3 per triangle, counter-clockwise = front
+    std::size_t triangleCount = 0;
+    const float* normals = nullptr;              ///< optional: 3 per vertex (smooth shading)
+    const float* uvs = nullptr;                  ///< optional: 2 per vertex
+    const std::uint32_t* faceMaterials = nullptr;  ///< optional: one per triangle
+    MaterialId material = 0;                     ///< used when faceMaterials is null
+};
+
+/// Pinhole or thin-lens camera; `up` maps to the top of the image.
+struct Camera {
+    Vec3 eye{0.f, 1.f, 3.f};
+    Vec3 lookAt{0.f, 1.f, 0.f};
+    Vec3 up{0.f, 1.f, 0.f};
+    float vfovDegrees = 45.f;
+    float aperture = 0.f;       ///< lens radius; 0 = pinhole
+    float focusDistance = 0.f;  ///< 0 = distance from eye to lookAt
+};
+
+/// Pixel window [x0, x1) x [y0, y1) of the full frame.
+struct CropWindow {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+enum class LightSelection {
+    All,    ///< every light gets lightSamples samples at every shading point
+    Power,  ///< lightSamples samples in total, lights picked in proportion to power
+};
+
+/// What to render. The same scene, camera and settings give a bit-identical
+/// image for any thread count, tile size and split into passes.
+struct RenderSettings {
+    int width = 512;
+    int height = 512;
+    int spp = 16;           ///< camera samples per pixel
+    int lightSamples = 4;   ///< area-light samples per light per shading point
+    int maxDepth = 10;      ///< mirror bounces; 0 = no reflection rays
+    std::uint64_t seed = 0;
+    int threads = 0;        ///< 0 = all cores; each render runs in its own TBB arena
+    int tileSize = 16;
+    std::optional<CropWindow> crop;
+    LightSelection lightSelection = LightSelection::All;
+    bool aovs = false;      ///< also accumulate albedo, normal and depth of the first hit
+};
+
+/// Throws Error(InvalidArgument) naming the offending setting.
+PENUMBRA_API void validate(const RenderSettings& settings);
+/// Throws Error(InvalidArgument) naming the problem (eye == lookAt, bad fov, ...).
+PENUMBRA_API void validate(const Camera& camera);
+
+/// How Renderer::loadScene reads files.
+struct LoadOptions {
+    /// What would be skipped with a warning (bad OBJ faces, ...) is an error instead.
+    bool strict = false;
+    /// Only files below the scene file's folder (and allowedRoots) may be read:
+    /// MTL files, textures, meshes referenced from JSON. On by default, so that
+    /// a scene file cannot make the host read arbitrary files.
+    bool restrictPaths = true;
+    /// Further folders files may be read from (only used with restrictPaths).
+    std::vector<std::string> allowedRoots;
+};
+
+// ---------------------------------------------------------------- scene
+
+class Renderer;
+class PreparedScene;
+
+/// A scene description: materials, shapes, meshes, lights, ambient and
+/// background light, and optionally a camera and settings from a file. A
+/// plain value: copy it, edit it, prepare it as often as needed.
+class PENUMBRA_API Scene {
+public:
+    /// An empty scene (black background, no ambient light).
+    Scene();
+    ~Scene();
+    Scene(const Scene& other);
+    Scene& operator=(const Scene& other);
+    Scene(Scene&& other) noexcept;
+    Scene& operator=(Scene&& other) noexcept;
+
+    /// Adds a material and returns its id. Before any material is added, id 0
+    /// names a default grey material.
+    MaterialId addMaterial(const Material& material);
+    /// Sphere; its front side faces outwards.
+    void addSphere(const Vec3& center, float radius, MaterialId material);
+    /// Infinite plane through `point`; a one-sided plane is invisible from behind.
+    void addPlane(const Vec3& point, const Vec3& normal, MaterialId material, bool twoSided = true);
+    /// Axis-aligned box [lo, hi].
+    void addBox(const Vec3& lo, const Vec3& hi, MaterialId material);
+    /// Box [lo, hi] in object space, placed by worldFromObject (must be invertible).
+    void addBox(const Vec3& lo, const Vec3& hi, const Matrix3x4& worldFromObject, MaterialId material);
+    /// Parallelogram corner + s*edgeA + t*edgeB (s, t in [0, 1]); front faces cross(edgeA, edgeB).
+    void addRectangle(const Vec3& corner, const Vec3& edgeA, const Vec3& edgeB, MaterialId material);
+    /// Disk; its front side faces `normal`.
+    void addDisk(const Vec3& center, const Vec3& normal, float radius, MaterialId material);
+    /// Copies a triangle mesh. Throws Error(InvalidArgument) for out-of-range
+    /// indices or material ids, non-finite values or missing arrays.
+    void addMesh(const MeshDesc& mesh);
+    /// Convenience: positions (3 per vertex) and indices (3 per triangle), one material.
+    void addMesh(const std::vector<float>& positions, const std::vector<std::uint32_t>& indices, MaterialId material);
+    /// Isotropic point light of intensity I (W/sr per channel).
+    void addPointLight(const Vec3& position, const Color& intensity);
+    /// Light travelling along `direction` with irradiance E on a surface facing it.
+    void addDirectionalLight(const Vec3& direction, const Color& irradiance);
+    /// Global ambient light La (multiplied by each material's ka).
+    void setAmbient(const Color& ambient);
+    /// Radiance of rays that leave the scene.
+    void setBackground(const Color& background);
+    /// Stores a camera with the scene (renders still take the camera explicitly).
+    void setCamera(const Camera& camera);
+
+    /// The camera a scene file set (or setCamera); empty otherwise.
+    std::optional<Camera> camera() const;
+    /// camera() if set, else a camera looking along -z that frames the scene's bounds.
+    Camera defaultCamera(float aspect, float vfovDegrees = 40.f) const;
+    /// Default settings with the scene file's "render" block applied.
+    RenderSettings settings() const;
+
+    std::size_t materialCount() const;
+    /// Shapes plus triangles.
+    std::size_t primitiveCount() const;
+    std::size_t triangleCount() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    friend struct detail::Access;
+};
+
+// ---------------------------------------------------------------- prepared scene
+
+enum class BuildQuality { Low, Medium, High };
+
+struct PrepareOptions {
+    std::string accelerator = "embree";  ///< "embree" or "naive" (the O(N) reference)
+    BuildQuality quality = BuildQuality::High;
+};
+
+/// A scene ready to render: validated and repaired, with its BVH and light
+/// tables built. Immutable; a cheap shared handle (copies share the data), safe
+/// to render from several threads and renderers at once. Asynchronous renders
+/// keep it alive.
+class PENUMBRA_API PreparedScene {
+public:
+    /// An empty handle; rendering it is an InvalidArgument error.
+    PreparedScene();
+    ~PreparedScene();
+    PreparedScene(const PreparedScene&);
+    PreparedScene& operator=(const PreparedScene&);
+    PreparedScene(PreparedScene&&) noexcept;
+    PreparedScene& operator=(PreparedScene&&) noexcept;
+
+    /// False for an empty handle.
+    bool valid() const noexcept;
+    std::size_t primitiveCount() const;
+    std::size_t triangleCount() const;
+    /// Point, directional and area lights (emissive shapes and triangles).
+    std::size_t lightCount() const;
+    /// Triangles and shapes dropped while validating (bad indices, degenerate, ...).
+    std::size_t droppedTriangles() const;
+    std::size_t droppedShapes() const;
+    double buildSeconds() const;
+    /// What the source Scene said (see Scene::camera, defaultCamera, settings).
+    std::optional<Camera> camera() const;
+    Camera defaultCamera(float aspect, float vfovDegrees = 40.f) const;
+    RenderSettings settings() const;
+
+private:
+    struct Impl;
+    std::shared_ptr<const Impl> impl_;
+    friend struct detail::Access;
+};
+
+// ---------------------------------------------------------------- framebuffer
+
+/// How Framebuffer::writeImage writes.
+struct ImageOptions {
+    float exposure = 0.f;  ///< stops; PNG/JPG/TIF only (float formats get the values as computed)
+    bool aovs = false;     ///< EXR: extra channels; other formats: a sibling <stem>.aovs.exr
+};
+
+/// Accumulated samples of one render window (the crop window, or the whole
+/// frame), plus the AOVs when the settings ask for them. Readouts give the
+/// average over the samples so far; row 0 is the top row. Not thread-safe:
+/// do not read it while a render writes into it.
+class PENUMBRA_API Framebuffer {
+public:
+    /// An empty framebuffer (0 x 0).
+    Framebuffer();
+    /// A framebuffer matching `settings` (size, crop window, AOVs). Throws
+    /// Error(InvalidArgument) for bad settings and Error(OutOfMemory) when it
+    /// would need more than half the machine's memory.
+    explicit Framebuffer(const RenderSettings& settings);
+    ~Framebuffer();
+    Framebuffer(const Framebuffer&);
+    Framebuffer& operator=(const Framebuffer&);
+    Framebuffer(Framebuffer&&) noexcept;
+    Framebuffer& operator=(Framebuffer&&) noexcept;
+
+    /// Size of the window held.
+    int width() const noexcept;
+    int height() const noexcept;
+    /// Size of the full frame and the window within it.
+    int fullWidth() const noexcept;
+    int fullHeight() const noexcept;
+    CropWindow window() const noexcept;
+    /// Samples per pixel accumulated so far.
+    std::uint32_t sampleCount() const noexcept;
+    bool hasAovs() const noexcept;
+    /// True after a cancelled or failed pass: the sums are partial; clear() before rendering into it again.
+    bool incomplete() const noexcept;
+
+    /// Averaged linear radiance as RGBA floats (alpha 1), width*height*4 values.
+    std::vector<float> rgba() const;
+    /// The same into host memory; throws Error(InvalidArgument) if floatCount < width*height*4.
+    void readRgba(float* dst, std::size_t floatCount) const;
+    /// First-hit albedo (3 per pixel), shading normal (3 per pixel) and depth
+    /// (distance along the camera ray, 1 per pixel; 0 where nothing was hit),
+    /// averaged. Throw Error(InvalidArgument) without AOVs or when dst is too small.
+    std::vector<float> albedo() const;
+    std::vector<float> normals() const;
+    std::vector<float> depth() const;
+    void readAlbedo(float* dst, std::size_t floatCount) const;
+    void readNormals(float* dst, std::size_t floatCount) const;
+    void readDepth(float* dst, std::size_t floatCount) const;
+    /// Averaged radiance of window pixel (x, y); throws Error(InvalidArgument) outside.
+    Color pixel(int x, int y) const;
+
+    /// Forgets all samples.
+    void clear();
+    /// Writes the averaged radiance: .exr/.hdr/.pfm linear, .png/.jpg/.tif
+    /// exposure-scaled and sRGB-encoded. Written to a temporary file and
+    /// renamed, so a failure leaves no partial image. Throws Error(IoError /
+    /// InvalidArgument) naming the file.
+    void writeImage(const std::string& path, const ImageOptions& options = {}) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    friend struct detail::Access;
+};
+
+// ---------------------------------------------------------------- rendering
+
+/// Counts and timings of one render call (or of all passes of a job).
+struct RenderStats {
+    std::uint64_t cameraRays = 0, shadowRays = 0, reflectionRays = 0;
+    std::uint64_t invalidRays = 0;       ///< rejected before reaching the accelerator
+    std::uint64_t nonFiniteSamples = 0;  ///< NaN/Inf radiance samples dropped
+    double renderSeconds = 0.0;
+    double mraysPerSecond = 0.0;
+    std::uint32_t samplesPerPixel = 0;   ///< in the framebuffer after the call
+    int threads = 0;
+};
+
+/// Host hooks for one synchronous render call.
+struct RenderControl {
+    /// Fraction of the call done, in (0, 1], after each tile; the last call
+    /// gives exactly 1. Runs on a render thread, never concurrently with itself;
+    /// keep it short.
+    std::function<void(double fraction)> progress;
+    /// When set and it becomes true, the render stops after the tile rows in
+    /// flight (well under a second) and the call throws Error(Cancelled).
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+enum class JobStatus { Running, Finished, Cancelled, Failed };
+
+/// How an asynchronous render ended, given to AsyncOptions::onComplete.
+struct JobResult {
+    JobStatus status = JobStatus::Running;
+    std::optional<Error> error;               ///< set for Cancelled and Failed
+    RenderStats stats;
+    const Framebuffer* framebuffer = nullptr;  ///< the image (Finished only), valid during the callback
+};
+
+struct AsyncOptions {
+    /// Fraction of the whole job done; called from render threads (never
+    /// concurrently with itself). RenderJob::progress() polls the same value.
+    std::function<void(double fraction)> progress;
+    /// Samples per progressive pass (0 = all in one pass). After each pass
+    /// onPass sees the image so far, on the job's thread, while nothing writes it.
+    std::uint32_t passSamples = 0;
+    std::function<void(const Framebuffer& image, std::uint32_t samplesDone)> onPass;
+    /// Called once on the job's thread when it ends (finished, cancelled or
+    /// failed), before wait() returns. Must not wait() on its own job.
+    std::function<void(const JobResult& result)> onComplete;
+};
+
+/// A running asynchronous render. Move-only; destroying it cancels the render
+/// and waits for it. progress(), cancel(), done() and status() may be called
+/// from any thread.
+class PENUMBRA_API RenderJob {
+public:
+    /// An empty job (done, Failed).
+    RenderJob();
+    ~RenderJob();
+    RenderJob(RenderJob&&) noexcept;
+    RenderJob& operator=(RenderJob&&) noexcept;
+    RenderJob(const RenderJob&) = delete;
+    RenderJob& operator=(const RenderJob&) = delete;
+
+    /// Fraction of the job done, 0 to 1.
+    double progress() const noexcept;
+    /// Asks the render to stop; it does within a fraction of a second.
+    void cancel() noexcept;
+    bool done() const noexcept;
+    /// Blocks until the job has ended (and its onComplete has returned).
+    void wait() const;
+    /// Waits at most `timeout`; returns done().
+    bool waitFor(std::chrono::milliseconds timeout) const;
+    JobStatus status() const noexcept;
+    /// Waits, then returns the error of a cancelled or failed job (empty otherwise).
+    std::optional<Error> error() const;
+    /// Waits, then returns the stats of all finished passes.
+    RenderStats stats() const;
+    /// Waits, then returns the image. Throws the job's Error (code Cancelled
+    /// for a cancelled job) unless it finished.
+    const Framebuffer& framebuffer() const;
+    /// Like framebuffer(), but moves the image out of the job.
+    Framebuffer takeFramebuffer();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    friend struct detail::Access;
+};
+
+/// The entry point: loads, prepares and renders, logging to its callback.
+/// Holds no scene: one Renderer renders any number of prepared scenes, and
+/// renderers are independent of each other. Its const methods may be called
+/// from several threads at once (the log callback then may be too).
+class PENUMBRA_API Renderer {
+public:
+    /// Logs warnings and errors to stderr.
+    Renderer();
+    /// Logs messages of at least `minLevel` to `log` (an empty callback: stderr).
+    explicit Renderer(LogCallback log, LogLevel minLevel = LogLevel::Warning);
+    ~Renderer();
+    Renderer(Renderer&&) noexcept;
+    Renderer& operator=(Renderer&&) noexcept;
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    /// Replaces the log callback (not while this renderer is in use elsewhere).
+    void setLog(LogCallback log, LogLevel minLevel = LogLevel::Warning);
+
+    /// Reads a .json or .obj scene file (docs/scene-format.md). With
+    /// options.restrictPaths (the default) only files below the scene file's
+    /// folder and options.allowedRoots may be read. Throws Error naming the
+    /// file and line or JSON path.
+    Scene loadScene(const std::string& path, const LoadOptions& options = {}) const;
+
+    /// Validates the scene (repairs are logged and counted), builds its BVH
+    /// and light tables. The scene is copied (or moved) in and not referenced after.
+    PreparedScene prepare(const Scene& scene, const PrepareOptions& options = {}) const;
+    PreparedScene prepare(Scene&& scene, const PrepareOptions& options = {}) const;
+
+    /// Renders all settings.spp samples into a new framebuffer.
+    Framebuffer render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
+                       const RenderControl& control = {}) const;
+    /// Renders the samples `image` is missing, [image.sampleCount(), spp).
+    RenderStats render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
+                       Framebuffer& image, const RenderControl& control = {}) const;
+    /// Renders all samples and writes RGBA floats (width*height*4, of the
+    /// render window) into host memory.
+    RenderStats render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings, float* rgba,
+                       std::size_t floatCount, const RenderControl& control = {}) const;
+    /// One progressive pass: adds samples [firstSample, firstSample +
+    /// sampleCount) of the spp-sample set to `image`, which must hold exactly
+    /// firstSample samples and match the settings. Passes that cover [0, spp)
+    /// give the same image, bit for bit, as one render with the same settings.
+    /// A cancelled pass throws Error(Cancelled) and leaves `image` incomplete().
+    RenderStats renderPass(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
+                           Framebuffer& image, std::uint32_t firstSample, std::uint32_t sampleCount,
+                           const RenderControl& control = {}) const;
+    /// Starts rendering all samples on a thread of its own and returns at once.
+    /// Arguments are checked and the framebuffer allocated before it starts
+    /// (throwing Error); later failures are reported through the job. The job
+    /// keeps the scene alive; it does not use the renderer after this call.
+    RenderJob renderAsync(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
+                          AsyncOptions options = {}) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    friend struct detail::Access;
+};
+
+}  // namespace pnb

@@ -383,8 +383,8 @@ Scene& Scene::operator=(const Scene& other) {
     if (this != &other) impl_ = guarded([&] { return std::make_unique<Impl>(*other.impl_); });
     return *this;
 }
-// A moved-from scene is a valid empty one: allocate a fresh Impl lazily would
-// complicate every method, so moves swap instead.
+// Every method dereferences impl_, so a moved-from object must keep one: move
+// construction leaves a fresh empty Impl behind, move assignment swaps.
 Scene::Scene(Scene&& other) noexcept : impl_(std::move(other.impl_)) {
     other.impl_ = std::unique_ptr<Impl>(new (std::nothrow) Impl());
 }
@@ -614,7 +614,9 @@ bool PreparedScene::valid() const noexcept { return impl_ != nullptr; }
 std::size_t PreparedScene::primitiveCount() const { return requirePrepared(*this).prepared.scene().primitiveCount(); }
 std::size_t PreparedScene::triangleCount() const { return requirePrepared(*this).prepared.scene().triangleCount(); }
 std::size_t PreparedScene::lightCount() const { return requirePrepared(*this).prepared.lights().size(); }
-std::size_t PreparedScene::droppedTriangles() const { return requirePrepared(*this).prepared.fixups().droppedTriangles; }
+std::size_t PreparedScene::droppedTriangles() const {
+    return requirePrepared(*this).prepared.fixups().droppedTriangles;
+}
 std::size_t PreparedScene::droppedShapes() const { return requirePrepared(*this).prepared.fixups().droppedShapes; }
 double PreparedScene::buildSeconds() const { return requirePrepared(*this).prepared.buildSeconds(); }
 
@@ -921,8 +923,9 @@ Framebuffer Renderer::render(const PreparedScene& scene, const Camera& camera, c
 RenderStats Renderer::render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
                              Framebuffer& image, const RenderControl& control) const {
     return guarded([&] {
+        pn::validateSettings(in(settings));
         const uint32_t have = image.sampleCount();
-        require(settings.spp > 0 && have <= uint32_t(settings.spp),
+        require(have <= uint32_t(settings.spp),
                 "the framebuffer already holds " + std::to_string(have) + " samples per pixel, spp is " +
                     std::to_string(settings.spp));
         return renderPass(scene, camera, settings, image, have, uint32_t(settings.spp) - have, control);

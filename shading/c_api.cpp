@@ -4,6 +4,7 @@
 #include <penumbra/penumbra.h>
 
 #include <atomic>
+#include <cstring>
 #include <new>
 #include <penumbra/penumbra.hpp>
 #include <string>
@@ -40,6 +41,16 @@ namespace {
 
 // The per-thread fallback for failures without a handle to keep them.
 thread_local std::string tLastError;
+
+// A C caller may store any int in an enum field; in C++ reading an enum object
+// outside its value range is undefined, so the raw bits are read instead.
+template <class E>
+int rawEnum(const E& e) {
+    static_assert(sizeof(E) == sizeof(int), "C enums are int-sized");
+    int v;
+    std::memcpy(&v, &e, sizeof v);
+    return v;
+}
 
 pnb_status toStatus(pnb::ErrorCode code) { return static_cast<pnb_status>(static_cast<int>(code)); }
 
@@ -115,10 +126,11 @@ pnb::RenderSettings in(const pnb_render_settings& s) {
     r.threads = s.threads;
     r.tileSize = s.tile_size;
     if (s.use_crop) r.crop = pnb::CropWindow{s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1};
-    if (s.light_selection != PNB_LIGHTS_ALL && s.light_selection != PNB_LIGHTS_POWER)
+    const int selection = rawEnum(s.light_selection);
+    if (selection != PNB_LIGHTS_ALL && selection != PNB_LIGHTS_POWER)
         throw pnb::Error(pnb::ErrorCode::InvalidArgument,
-                         "light_selection " + std::to_string(int(s.light_selection)) + " is not a pnb_light_selection");
-    r.lightSelection = s.light_selection == PNB_LIGHTS_POWER ? pnb::LightSelection::Power : pnb::LightSelection::All;
+                         "light_selection " + std::to_string(selection) + " is not a pnb_light_selection");
+    r.lightSelection = selection == PNB_LIGHTS_POWER ? pnb::LightSelection::Power : pnb::LightSelection::All;
     r.aovs = s.aovs != 0;
     return r;
 }
@@ -265,10 +277,11 @@ void pnb_renderer_destroy(pnb_renderer* renderer) { destroy(renderer); }
 pnb_status pnb_renderer_set_log(pnb_renderer* renderer, pnb_log_fn fn, void* user, pnb_log_level min_level) {
     return guard(renderer ? &renderer->error : nullptr, "pnb_renderer_set_log", [&] {
         need(renderer, "renderer");
-        if (min_level < PNB_LOG_DEBUG || min_level > PNB_LOG_ERROR)
-            throw pnb::Error(pnb::ErrorCode::InvalidArgument, "min_level " + std::to_string(int(min_level)) +
-                                                                  " is not a pnb_log_level");
-        const auto level = static_cast<pnb::LogLevel>(static_cast<int>(min_level));
+        const int raw = rawEnum(min_level);
+        if (raw < PNB_LOG_DEBUG || raw > PNB_LOG_ERROR)
+            throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                             "min_level " + std::to_string(raw) + " is not a pnb_log_level");
+        const auto level = static_cast<pnb::LogLevel>(raw);
         if (!fn) {
             renderer->renderer.setLog({}, level);
             return;
@@ -343,10 +356,11 @@ pnb_status pnb_scene_add_material(pnb_scene* scene, const pnb_material* material
         m.kr = in(material->kr);
         m.ke = in(material->ke);
         m.twoSidedEmission = material->two_sided_emission != 0;
-        if (material->model != PNB_PHONG_NORMALIZED && material->model != PNB_PHONG_CLASSIC)
+        const int model = rawEnum(material->model);
+        if (model != PNB_PHONG_NORMALIZED && model != PNB_PHONG_CLASSIC)
             throw pnb::Error(pnb::ErrorCode::InvalidArgument,
-                             "material model " + std::to_string(int(material->model)) + " is not a pnb_phong_model");
-        m.model = material->model == PNB_PHONG_CLASSIC ? pnb::PhongModel::Classic : pnb::PhongModel::Normalized;
+                             "material model " + std::to_string(model) + " is not a pnb_phong_model");
+        m.model = model == PNB_PHONG_CLASSIC ? pnb::PhongModel::Classic : pnb::PhongModel::Normalized;
         if (material->diffuse_texture) m.diffuseTexture = material->diffuse_texture;
         const pnb::MaterialId id = scene->scene.addMaterial(m);
         if (out_id) *out_id = id;
@@ -488,11 +502,11 @@ pnb_status pnb_prepare(pnb_renderer* renderer, const pnb_scene* scene, const pnb
         pnb::PrepareOptions po;
         if (options) {
             if (options->accelerator) po.accelerator = options->accelerator;
-            if (options->quality < PNB_BUILD_LOW || options->quality > PNB_BUILD_HIGH)
-                throw pnb::Error(pnb::ErrorCode::InvalidArgument, "build quality " +
-                                                                      std::to_string(int(options->quality)) +
-                                                                      " is not a pnb_build_quality");
-            po.quality = static_cast<pnb::BuildQuality>(static_cast<int>(options->quality));
+            const int quality = rawEnum(options->quality);
+            if (quality < PNB_BUILD_LOW || quality > PNB_BUILD_HIGH)
+                throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                                 "build quality " + std::to_string(quality) + " is not a pnb_build_quality");
+            po.quality = static_cast<pnb::BuildQuality>(quality);
         }
         auto prepared = std::make_unique<pnb_prepared_scene>();
         prepared->prepared = renderer->renderer.prepare(scene->scene, po);

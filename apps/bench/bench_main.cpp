@@ -101,27 +101,32 @@ SceneResult runScene(BenchScene bench, const BenchOptions& o, int threads, const
         const auto& rays = sets.of(kind);
         const bool occlusion = isOcclusion(kind);
         r.setRays[k] = rays.size();
+
+        // The renderer, raw Embree and its packets answer the whole set,
+        // interleaved so that load from elsewhere falls on all of them alike.
+        std::vector<std::unique_ptr<RayLoop>> loops;
+        loops.push_back(acceleratorLoop(embree, rays, occlusion));
+        std::vector<int> widths;
+        if (raw) {
+            widths.push_back(1);
+            if (kind != RayKind::Incoherent) widths.insert(widths.end(), {8, 16});
+            for (int w : widths) loops.push_back(rawLoop(*raw, rays, occlusion, w));
+        }
+        std::vector<RayLoop*> timed;
+        for (auto& l : loops) timed.push_back(l.get());
+        const auto rates = measureInterleaved(timed, rays.size(), threads, o.repetitions, true);
+        r.embree.kinds[k] = rates[0];
+        const Answers reference = loops[0]->answers();
         std::vector<size_t> all(rays.size());
         for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-
-        Answers reference;
-        r.embree.kinds[k] = measureAccelerator(embree, rays, occlusion, threads, o.repetitions, true, reference);
-
-        if (raw) {
-            Answers answers;
-            r.raw.kinds[k] = measureRaw(*raw, rays, occlusion, 1, threads, o.repetitions, answers);
-            r.rawVsEmbree[k] += compareAnswers(reference, answers, all, occlusion, rayKindName(kind));
-            if (kind != RayKind::Incoherent) {
-                for (int width : {8, 16}) {
-                    PacketFigures p;
-                    p.width = width;
-                    p.kind = kind;
-                    p.native = raw->nativePacket(width);
-                    p.rate = measureRaw(*raw, rays, occlusion, width, threads, o.repetitions, answers);
-                    const std::string what = std::string(rayKindName(kind)) + " x" + std::to_string(width);
-                    r.rawVsEmbree[k] += compareAnswers(reference, answers, all, occlusion, what.c_str());
-                    r.packets.push_back(p);
-                }
+        for (size_t i = 0; i < widths.size(); ++i) {
+            const int w = widths[i];
+            const std::string what = std::string(rayKindName(kind)) + (w == 1 ? "" : " x" + std::to_string(w));
+            r.rawVsEmbree[k] += compareAnswers(reference, loops[i + 1]->answers(), all, occlusion, what.c_str());
+            if (w == 1) {
+                r.raw.kinds[k] = rates[i + 1];
+            } else {
+                r.packets.push_back(PacketFigures{w, kind, raw->nativePacket(w), rates[i + 1]});
             }
         }
 
@@ -131,9 +136,9 @@ SceneResult runScene(BenchScene bench, const BenchOptions& o, int threads, const
         std::vector<Ray> subsetRays;
         subsetRays.reserve(subset.size());
         for (size_t i : subset) subsetRays.push_back(rays[i]);
-        Answers answers;
-        r.naive.kinds[k] = measureAccelerator(*naive, subsetRays, occlusion, threads, 1, false, answers);
-        r.naiveVsEmbree[k] = compareAnswers(reference, answers, subset, occlusion, rayKindName(kind));
+        const auto naiveLoop = acceleratorLoop(*naive, subsetRays, occlusion);
+        r.naive.kinds[k] = measureInterleaved({naiveLoop.get()}, subsetRays.size(), threads, 1, false)[0];
+        r.naiveVsEmbree[k] = compareAnswers(reference, naiveLoop->answers(), subset, occlusion, rayKindName(kind));
     }
 
     RenderSettings st;

@@ -223,8 +223,6 @@ void printReport(std::FILE* out, const std::vector<SceneResult>& results, const 
         std::fprintf(out, "\nRaw Embree packets (Mrays/s; in brackets: packet rate / rtcIntersect1 or rtcOccluded1 rate)\n");
         std::fprintf(out, "  %-14s %-7s %7s %7s", "scene", "kind", "x1 1T", ("x1 " + std::to_string(T) + "T").c_str());
         std::vector<int> widths;
-        for (const auto& p : results.front().packets)
-            if (std::find(widths.begin(), widths.end(), p.width) == widths.end()) widths.push_back(p.width);
         for (const auto& r : results)
             for (const auto& p : r.packets)
                 if (std::find(widths.begin(), widths.end(), p.width) == widths.end()) widths.push_back(p.width);

@@ -47,18 +47,6 @@ bool sameClosest(const ClosestAnswer& a, const ClosestAnswer& b) {
 
 }  // namespace
 
-Timing timeRuns(int reps, bool warmUp, const std::function<void()>& run) {
-    if (warmUp) run();
-    std::vector<double> t;
-    for (int i = 0; i < std::max(1, reps); ++i) {
-        const auto t0 = Clock::now();
-        run();
-        t.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
-    }
-    std::sort(t.begin(), t.end());
-    return Timing{t.front(), t[t.size() / 2], int(t.size())};
-}
-
 void forChunks(size_t count, int threads, const std::function<void(size_t, size_t)>& body) {
     parallelFor((count + kChunk - 1) / kChunk, threads, [&](size_t c) {
         DenormalGuard ftz;
@@ -66,68 +54,112 @@ void forChunks(size_t count, int threads, const std::function<void(size_t, size_
     });
 }
 
-RateFigures measureAccelerator(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion, int threads,
-                               int reps, bool warmUp, Answers& out) {
-    RateFigures f;
-    f.rays = rays.size();
-    int useThreads = 1;
-    std::function<void()> run;
-    if (occlusion) {
-        out.occluded.assign(rays.size(), 0);
-        run = [&] {
-            forChunks(rays.size(), useThreads, [&](size_t b, size_t e) {
-                for (size_t i = b; i < e; ++i) out.occluded[i] = accel.occluded(rays[i]) ? 1 : 0;
+namespace {
+
+class AcceleratorLoop final : public RayLoop {
+public:
+    AcceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion)
+        : accel_(accel), rays_(rays), occlusion_(occlusion) {
+        if (occlusion) out_.occluded.assign(rays.size(), 0);
+        else out_.closest.assign(rays.size(), ClosestAnswer{});
+    }
+    void run(int threads) override {
+        if (occlusion_) {
+            forChunks(rays_.size(), threads, [&](size_t b, size_t e) {
+                for (size_t i = b; i < e; ++i) out_.occluded[i] = accel_.occluded(rays_[i]) ? 1 : 0;
             });
-        };
-    } else {
-        out.closest.assign(rays.size(), ClosestAnswer{});
-        run = [&] {
-            forChunks(rays.size(), useThreads, [&](size_t b, size_t e) {
+        } else {
+            forChunks(rays_.size(), threads, [&](size_t b, size_t e) {
                 for (size_t i = b; i < e; ++i) {
-                    const auto h = accel.intersect(rays[i]);
-                    out.closest[i] = h ? ClosestAnswer{h->ref, h->t, true} : ClosestAnswer{};
+                    const auto h = accel_.intersect(rays_[i]);
+                    out_.closest[i] = h ? ClosestAnswer{h->ref, h->t, true} : ClosestAnswer{};
                 }
             });
-        };
+        }
     }
-    f.one = timeRuns(reps, warmUp, run);
-    useThreads = threads;
-    f.all = timeRuns(reps, warmUp, run);
-    return f;
-}
+    Answers answers() const override { return out_; }
 
-RateFigures measureRaw(const RawEmbreeScene& raw, const std::vector<Ray>& rays, bool occlusion, int packetWidth,
-                       int threads, int reps, Answers& out) {
-    RateFigures f;
-    f.rays = rays.size();
-    std::vector<RawHit> hits(occlusion ? 0 : rays.size());
-    std::vector<uint8_t> occ(occlusion ? rays.size() : 0);
-    int useThreads = 1;
-    auto run = [&] {
-        forChunks(rays.size(), useThreads, [&](size_t b, size_t e) {
-            const Ray* r = rays.data() + b;
-            if (occlusion) {
-                if (packetWidth == 1) raw.occluded1(r, e - b, occ.data() + b);
-                else raw.occludedPackets(packetWidth, r, e - b, occ.data() + b);
+private:
+    const Accelerator& accel_;
+    const std::vector<Ray>& rays_;
+    bool occlusion_;
+    Answers out_;
+};
+
+class RawLoop final : public RayLoop {
+public:
+    RawLoop(const RawEmbreeScene& raw, const std::vector<Ray>& rays, bool occlusion, int width)
+        : raw_(raw), rays_(rays), occlusion_(occlusion), width_(width) {
+        if (occlusion) occluded_.assign(rays.size(), 0);
+        else hits_.assign(rays.size(), RawHit{kRawMiss, 0, 0.f});
+    }
+    void run(int threads) override {
+        forChunks(rays_.size(), threads, [&](size_t b, size_t e) {
+            const Ray* r = rays_.data() + b;
+            if (occlusion_) {
+                if (width_ == 1) raw_.occluded1(r, e - b, occluded_.data() + b);
+                else raw_.occludedPackets(width_, r, e - b, occluded_.data() + b);
             } else {
-                if (packetWidth == 1) raw.intersect1(r, e - b, hits.data() + b);
-                else raw.intersectPackets(packetWidth, r, e - b, hits.data() + b);
+                if (width_ == 1) raw_.intersect1(r, e - b, hits_.data() + b);
+                else raw_.intersectPackets(width_, r, e - b, hits_.data() + b);
             }
         });
-    };
-    f.one = timeRuns(reps, true, run);
-    useThreads = threads;
-    f.all = timeRuns(reps, true, run);
-    if (occlusion) {
-        out.occluded = std::move(occ);
-    } else {
-        out.closest.resize(hits.size());
-        for (size_t i = 0; i < hits.size(); ++i)
-            out.closest[i] = hits[i].mesh == kRawMiss
-                                 ? ClosestAnswer{}
-                                 : ClosestAnswer{PrimRef{ShapeKind::Mesh, hits[i].mesh, hits[i].prim}, hits[i].t, true};
     }
-    return f;
+    Answers answers() const override {
+        Answers a;
+        a.occluded = occluded_;
+        a.closest.reserve(hits_.size());
+        for (const RawHit& h : hits_)
+            a.closest.push_back(h.mesh == kRawMiss ? ClosestAnswer{}
+                                                   : ClosestAnswer{PrimRef{ShapeKind::Mesh, h.mesh, h.prim}, h.t, true});
+        return a;
+    }
+
+private:
+    const RawEmbreeScene& raw_;
+    const std::vector<Ray>& rays_;
+    bool occlusion_;
+    int width_;
+    std::vector<RawHit> hits_;
+    std::vector<uint8_t> occluded_;
+};
+
+Timing timingOf(std::vector<double> t) {
+    std::sort(t.begin(), t.end());
+    return Timing{t.front(), t[t.size() / 2], int(t.size())};
+}
+
+}  // namespace
+
+std::unique_ptr<RayLoop> acceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion) {
+    return std::make_unique<AcceleratorLoop>(accel, rays, occlusion);
+}
+
+std::unique_ptr<RayLoop> rawLoop(const RawEmbreeScene& raw, const std::vector<Ray>& rays, bool occlusion,
+                                 int packetWidth) {
+    return std::make_unique<RawLoop>(raw, rays, occlusion, packetWidth);
+}
+
+std::vector<RateFigures> measureInterleaved(const std::vector<RayLoop*>& loops, size_t rays, int threads, int reps,
+                                            bool warmUp) {
+    std::vector<RateFigures> figures(loops.size());
+    for (int pass = 0; pass < 2; ++pass) {
+        const int t = pass == 0 ? 1 : threads;
+        if (warmUp)
+            for (RayLoop* loop : loops) loop->run(t);
+        std::vector<std::vector<double>> seconds(loops.size());
+        for (int rep = 0; rep < std::max(1, reps); ++rep)
+            for (size_t i = 0; i < loops.size(); ++i) {
+                const auto t0 = Clock::now();
+                loops[i]->run(t);
+                seconds[i].push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+            }
+        for (size_t i = 0; i < loops.size(); ++i) {
+            figures[i].rays = rays;
+            (pass == 0 ? figures[i].one : figures[i].all) = timingOf(seconds[i]);
+        }
+    }
+    return figures;
 }
 
 Disagreement& Disagreement::operator+=(const Disagreement& o) {
@@ -166,25 +198,27 @@ FrameFigures measureFrame(const PreparedScene& prepared, const CameraDesc& camer
                           int threads, int reps) {
     FrameFigures f;
     f.measured = true;
-    RenderSettings st = settings;
-    // Only the renderPass call is timed (not the film allocation); the best
-    // of `reps` runs after one warm-up when there are several.
-    auto best = [&] {
-        double b = kInfinity;
-        for (int i = 0; i < (reps > 1 ? reps + 1 : 1); ++i) {
-            Film film = makeFilm(st);
-            const auto t0 = Clock::now();
-            const RenderStats s = renderPass(prepared, camera, st, film, 0, uint32_t(st.spp));
-            const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
-            f.rays = s.rays;
-            if (reps <= 1 || i > 0) b = std::min(b, dt);
-        }
-        return b;
+    // Only the renderPass call is timed (not the film allocation). One and
+    // `threads` threads alternate, after one warm-up each when reps > 1.
+    auto once = [&](int t) {
+        RenderSettings st = settings;
+        st.threads = t;
+        Film film = makeFilm(st);
+        const auto t0 = Clock::now();
+        const RenderStats s = renderPass(prepared, camera, st, film, 0, uint32_t(st.spp));
+        const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+        f.rays = s.rays;
+        return dt;
     };
-    st.threads = 1;
-    f.seconds1 = best();
-    st.threads = threads;
-    f.secondsAll = best();
+    if (reps > 1) {
+        once(1);
+        once(threads);
+    }
+    f.seconds1 = f.secondsAll = kInfinity;
+    for (int i = 0; i < std::max(1, reps); ++i) {
+        f.seconds1 = std::min(f.seconds1, once(1));
+        f.secondsAll = std::min(f.secondsAll, once(threads));
+    }
     return f;
 }
 

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,9 +23,6 @@ struct Timing {
     double median = 0.0;
     int runs = 0;
 };
-
-/// Runs `run` once untimed when warmUp is set, then `reps` timed times.
-Timing timeRuns(int reps, bool warmUp, const std::function<void()>& run);
 
 /// Calls body(begin, end) over [0, count) in chunks of a few hundred rays with
 /// `threads` threads (core/parallel.h), with flush-to-zero set as the
@@ -52,16 +50,31 @@ struct RateFigures {
     double mraysAll() const { return all.best > 0 ? double(rays) / all.best * 1e-6 : 0.0; }
 };
 
+/// One way of answering a whole ray set: loop(threads) answers every ray
+/// with that many threads and keeps the answers (see answers()).
+class RayLoop {
+public:
+    virtual ~RayLoop() = default;
+    virtual void run(int threads) = 0;
+    /// The answers of the last run, in the agreement check's form.
+    virtual Answers answers() const = 0;
+};
+
 /// Closest hits through Accelerator::intersect (Scene::completeHit included,
-/// as the renderer calls it) or occlusion through Accelerator::occluded.
-/// `out` receives the answers of the last run.
-RateFigures measureAccelerator(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion, int threads,
-                               int reps, bool warmUp, Answers& out);
+/// as the integrator calls it) or occlusion through Accelerator::occluded.
+std::unique_ptr<RayLoop> acceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion);
 
 /// The same through raw Embree: packetWidth 1 = rtcIntersect1/rtcOccluded1,
 /// 4/8/16 = packets of consecutive rays.
-RateFigures measureRaw(const RawEmbreeScene& raw, const std::vector<Ray>& rays, bool occlusion, int packetWidth,
-                       int threads, int reps, Answers& out);
+std::unique_ptr<RayLoop> rawLoop(const RawEmbreeScene& raw, const std::vector<Ray>& rays, bool occlusion,
+                                 int packetWidth);
+
+/// Times loops that answer the same `rays` rays, with one thread and then
+/// with `threads` threads. For each thread count every loop runs once untimed
+/// (when warmUp), then `reps` rounds run every loop once in turn, so load
+/// from elsewhere on the machine falls on all of them alike; the best counts.
+std::vector<RateFigures> measureInterleaved(const std::vector<RayLoop*>& loops, size_t rays, int threads, int reps,
+                                            bool warmUp);
 
 /// Counts of an agreement comparison, with a few readable examples.
 struct Disagreement {

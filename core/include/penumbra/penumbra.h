@@ -75,7 +75,12 @@ typedef struct pnb_color {
     float r, g, b;
 } pnb_color;
 
-typedef enum pnb_log_level { PNB_LOG_DEBUG = 0, PNB_LOG_INFO = 1, PNB_LOG_WARNING = 2, PNB_LOG_ERROR = 3 } pnb_log_level;
+typedef enum pnb_log_level {
+    PNB_LOG_DEBUG = 0,
+    PNB_LOG_INFO = 1,
+    PNB_LOG_WARNING = 2,
+    PNB_LOG_ERROR = 3
+} pnb_log_level;
 
 /* Receives library messages; may be called from render threads. */
 typedef void (*pnb_log_fn)(pnb_log_level level, const char* message, void* user);

@@ -506,7 +506,8 @@ public:
     /// sampleCount) of the spp-sample set to `image`, which must hold exactly
     /// firstSample samples and match the settings. Passes that cover [0, spp)
     /// give the same image, bit for bit, as one render with the same settings.
-    /// A cancelled pass throws Error(Cancelled) and leaves `image` incomplete().
+    /// AOVs are accumulated when `image` has them. A cancelled pass throws
+    /// Error(Cancelled) and leaves `image` incomplete().
     RenderStats renderPass(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
                            Framebuffer& image, std::uint32_t firstSample, std::uint32_t sampleCount,
                            const RenderControl& control = {}) const;

@@ -9,7 +9,8 @@ static_assert(PENUMBRA_VERSION_MAJOR == 0 && PENUMBRA_VERSION_MINOR >= 1, "unexp
 int main(int argc, char** argv) {
     if (argc < 2) return 2;
     try {
-        if (std::string(pnb::version()) != PENUMBRA_VERSION) throw pnb::Error(pnb::ErrorCode::Internal, "version mismatch");
+        if (std::string(pnb::version()) != PENUMBRA_VERSION)
+            throw pnb::Error(pnb::ErrorCode::Internal, "version mismatch");
         pnb::Renderer renderer;
         pnb::Scene scene;
         pnb::Material white;

@@ -9,9 +9,27 @@ Integrator::Integrator(const Scene& scene, const Accelerator& accel, const Light
                        const TextureCache* textures, const RenderSettings& settings)
     : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings) {}
 
-Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit) const {
+Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLength, const Vec3f& wo) const {
     if (m.diffuseTexture < 0 || !textures_) return m.kd;
-    return m.kd * textures_->lookup(m.diffuseTexture, hit.uv, 0.f);
+    // Filter footprint in uv: the pixel's cone width at the hit (a ray cone:
+    // distance travelled times the pixel's angle, stretched by the grazing
+    // angle), converted to uv units with the triangle's uv-per-world scale.
+    float footprint = 0.f;
+    if (pixelSpread_ > 0.f && hit.ref.kind == ShapeKind::Mesh) {
+        const TriangleMesh& mesh = scene_.meshes[hit.ref.object];
+        if (!mesh.uvs.empty()) {
+            const uint32_t* idx = &mesh.indices[3 * hit.ref.prim];
+            const Vec2f &a = mesh.uvs[idx[0]], &b = mesh.uvs[idx[1]], &c = mesh.uvs[idx[2]];
+            const float uvArea = std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+            const Vec3f &p0 = mesh.positions[idx[0]], &p1 = mesh.positions[idx[1]], &p2 = mesh.positions[idx[2]];
+            const float worldArea = length(cross(p1 - p0, p2 - p0));
+            if (worldArea > 0.f) {
+                const float cosTheta = std::max(std::fabs(dot(wo, hit.ns)), 0.2f);
+                footprint = pathLength * pixelSpread_ / cosTheta * std::sqrt(uvArea / worldArea);
+            }
+        }
+    }
+    return m.kd * textures_->lookup(m.diffuseTexture, hit.uv, footprint);
 }
 
 Rgb Integrator::directLight(const Hit& hit, const Material& m, const Rgb& kd, const Vec3f& ng, const Vec3f& ns,
@@ -69,6 +87,7 @@ Rgb Integrator::Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts
     Rgb L;
     Rgb throughput(1.f);
     Ray ray = cameraRay;
+    float pathLength = 0.f;
     ++counts.camera;
     for (int depth = 0;; ++depth) {
         auto hit = accel_.intersect(ray);
@@ -78,6 +97,7 @@ Rgb Integrator::Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts
         }
         const Material& m = scene_.material(hit->material);
         const Vec3f wo = -ray.d;
+        pathLength += hit->t;
         // Emission is one-sided: only the side the geometric normal faces emits.
         const bool front = dot(wo, hit->ng) > 0.f;
         if (m.isEmissive() && (front || m.twoSidedEmission)) L += throughput * m.ke;
@@ -85,7 +105,7 @@ Rgb Integrator::Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts
         // Shading is two-sided: flip both normals to the viewer's side.
         const Vec3f ng = front ? hit->ng : -hit->ng;
         const Vec3f ns = front ? hit->ns : -hit->ns;
-        const Rgb kd = diffuseAlbedo(m, *hit);
+        const Rgb kd = diffuseAlbedo(m, *hit, pathLength, wo);
         if (depth == 0 && firstHit) *firstHit = FirstHit{kd, ns, hit->t};
 
         L += throughput * (m.ka * scene_.ambient);

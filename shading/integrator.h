@@ -55,19 +55,24 @@ public:
     Integrator(const Scene& scene, const Accelerator& accel, const LightSet& lights, const TextureCache* textures,
                const RenderSettings& settings);
 
+    /// Angle (radians) one pixel subtends at the camera; it sizes the texture
+    /// filter footprint (ray cones without differentials). 0 = finest level.
+    void setPixelSpread(float radians) { pixelSpread_ = radians; }
+
     /// Radiance arriving along the camera ray.
     Rgb Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts, FirstHit* firstHit) const;
 
 private:
     Rgb directLight(const Hit& hit, const Material& m, const Rgb& kd, const Vec3f& ng, const Vec3f& ns,
                     const Vec3f& wo, const SampleKey& key, int depth, RayCounts& counts) const;
-    Rgb diffuseAlbedo(const Material& m, const Hit& hit) const;
+    Rgb diffuseAlbedo(const Material& m, const Hit& hit, float pathLength, const Vec3f& wo) const;
 
     const Scene& scene_;
     const Accelerator& accel_;
     const LightSet& lights_;
     const TextureCache* textures_;
     RenderSettings settings_;
+    float pixelSpread_ = 0.f;
 };
 
 }  // namespace penumbra

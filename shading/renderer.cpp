@@ -4,6 +4,7 @@
 #include <xmmintrin.h>
 
 #include <chrono>
+#include <cmath>
 #include <mutex>
 
 #include "core/error.h"
@@ -62,8 +63,8 @@ RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& cameraDe
                                                     " samples per pixel; the pass must start there");
 
     const Camera camera(cameraDesc, settings.width, settings.height);
-    const Integrator integrator(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(),
-                                settings);
+    Integrator integrator(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings);
+    integrator.setPixelSpread(2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height));
     const int tile = settings.tileSize;
     const int tilesX = (window.x1 - window.x0 + tile - 1) / tile;
     const int tilesY = (window.y1 - window.y0 + tile - 1) / tile;

@@ -29,6 +29,9 @@ constexpr Rgb operator-(const Rgb& a, const Rgb& b) { return {a.r - b.r, a.g - b
 constexpr Rgb operator*(const Rgb& a, const Rgb& b) { return {a.r * b.r, a.g * b.g, a.b * b.b}; }
 constexpr Rgb operator*(const Rgb& a, float s) { return {a.r * s, a.g * s, a.b * s}; }
 constexpr Rgb operator*(float s, const Rgb& a) { return {a.r * s, a.g * s, a.b * s}; }
-constexpr Rgb operator/(const Rgb& a, float s) { return {a.r / s, a.g / s, a.b / s}; }
+constexpr Rgb operator/(const Rgb& a, float s) {
+    const float inv = 1.f / s;
+    return {a.r * inv, a.g * inv, a.b * inv};
+}
 
 }  // namespace penumbra

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/sampling.h"
+
 namespace penumbra {
 
 std::optional<LightSample> areaLightSample(const Vec3f& p, const SurfaceSample& s, const Rgb& Le, bool twoSided) {
@@ -51,16 +53,18 @@ std::optional<LightSample> ShapeAreaLight::sample(const Vec3f& p, Vec2f u) const
 
 Rgb ShapeAreaLight::power() const { return Le_ * (area_ * kPi * (twoSided_ ? 2.f : 1.f)); }
 
-MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles)
-    : scene_(scene), mesh_(mesh), triangles_(std::move(triangles)) {
+MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles) {
     Le_ = scene.materials[material].ke;
     twoSided_ = scene.materials[material].twoSidedEmission;
     const TriangleMesh& m = scene.meshes[mesh];
-    cdf_.reserve(triangles_.size());
+    triangles_.reserve(triangles.size());
+    cdf_.reserve(triangles.size());
     double acc = 0.0;
-    for (uint32_t t : triangles_) {
+    for (uint32_t t : triangles) {
         Vec3f p0, p1, p2;
         m.vertices(t, p0, p1, p2);
+        const Vec3f e1 = p1 - p0, e2 = p2 - p0;
+        triangles_.push_back(Triangle{p0, e1, e2, normalize(cross(e1, e2))});
         acc += triangleArea(p0, p1, p2);
         cdf_.push_back(static_cast<float>(acc));
     }
@@ -71,16 +75,16 @@ std::optional<LightSample> MeshAreaLight::sample(const Vec3f& p, Vec2f u) const 
     if (triangles_.empty() || !(totalArea_ > 0.f)) return std::nullopt;
     // Pick a triangle in proportion to its area with u.x, then reuse the
     // remainder of u.x inside the chosen triangle so the sample set stays stratified.
-    float target = u.x * totalArea_;
-    size_t i = std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin();
+    const float target = u.x * totalArea_;
+    size_t i = triangles_.size() == 1 ? 0 : size_t(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin());
     i = std::min(i, cdf_.size() - 1);
-    float lo = i ? cdf_[i - 1] : 0.f;
-    float triArea = cdf_[i] - lo;
-    float ux = triArea > 0.f ? std::clamp((target - lo) / triArea, 0.f, 0x1.fffffep-1f) : 0.5f;
-    Vec3f p0, p1, p2;
-    scene_.meshes[mesh_].vertices(triangles_[i], p0, p1, p2);
-    SurfaceSample s = sampleTriangle(p0, p1, p2, Vec2f{ux, u.y});
-    s.pdfArea = 1.f / totalArea_;  // uniform over the whole light's area
+    const float lo = i ? cdf_[i - 1] : 0.f;
+    const float triArea = cdf_[i] - lo;
+    const float ux = triArea > 0.f ? std::clamp((target - lo) / triArea, 0.f, 0x1.fffffep-1f) : 0.5f;
+    const Triangle& t = triangles_[i];
+    const Vec2f b = squareToTriangle(Vec2f{ux, u.y});
+    // Uniform over the whole light's area: p_A = 1 / total area.
+    const SurfaceSample s{t.p0 + b.x * t.e1 + b.y * t.e2, t.n, 1.f / totalArea_};
     return areaLightSample(p, s, Le_, twoSided_);
 }
 

@@ -42,11 +42,13 @@ public:
     size_t triangleCount() const { return triangles_.size(); }
 
 private:
-    const Scene& scene_;
-    uint32_t mesh_;
+    // Copied out of the mesh so a sample touches one cache line, not three vertices.
+    struct Triangle {
+        Vec3f p0, e1, e2, n;
+    };
     Rgb Le_;
     bool twoSided_;
-    std::vector<uint32_t> triangles_;
+    std::vector<Triangle> triangles_;
     std::vector<float> cdf_;  // cumulative areas, cdf_[i] = sum of areas of triangles [0, i]
     float totalArea_ = 0.f;
 };

@@ -60,25 +60,25 @@ Rgb Integrator::directLight(const Hit& hit, const Material& m, const Rgb& kd, co
                 if (auto ls = light.sample(hit.p, Vec2f{0.5f, 0.5f})) sum += contribution(light, *ls);
                 continue;
             }
-            const uint32_t pattern = mjPattern(key.seed, key.pixel, key.index, dimBase + j);
+            const MultiJitterSet set(n, mjPattern(key.seed, key.pixel, key.index, dimBase + j));
             Rgb acc;
             for (uint32_t k = 0; k < n; ++k) {
-                if (auto ls = light.sample(hit.p, multiJitter2D(k, n, pattern))) acc += contribution(light, *ls);
+                if (auto ls = light.sample(hit.p, set.sample(k))) acc += contribution(light, *ls);
             }
             sum += acc / float(n);
         }
         return sum;
     }
     // Power-proportional selection: n samples in total, each picks one light.
-    const uint32_t pattern = mjPattern(key.seed, key.pixel, key.index, dimBase + nLights);
-    const uint32_t pickPattern = mjPattern(key.seed, key.pixel, key.index, dimBase + nLights + 0x9e37ULL);
+    const MultiJitterSet set(n, mjPattern(key.seed, key.pixel, key.index, dimBase + nLights));
+    const MultiJitterSet pickSet(n, mjPattern(key.seed, key.pixel, key.index, dimBase + nLights + 0x9e37ULL));
     Rgb acc;
     for (uint32_t k = 0; k < n; ++k) {
-        Vec2f pickU = multiJitter2D(k, n, pickPattern);
+        Vec2f pickU = pickSet.sample(k);
         LightSet::Pick pick = lights_.pickByPower(pickU.x);
         if (!(pick.probability > 0.f)) continue;
         const Light& light = lights_[pick.index];
-        if (auto ls = light.sample(hit.p, multiJitter2D(k, n, pattern))) acc += contribution(light, *ls) / pick.probability;
+        if (auto ls = light.sample(hit.p, set.sample(k))) acc += contribution(light, *ls) / pick.probability;
     }
     return acc / float(n);
 }

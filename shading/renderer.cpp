@@ -92,12 +92,12 @@ RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& cameraDe
             }
             for (int x = x0; x < x1; ++x) {
                 const uint64_t pixel = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
-                const uint32_t pixelPattern = mjPattern(settings.seed, pixel, 0, kPixelDimension);
-                const uint32_t lensPattern = mjPattern(settings.seed, pixel, 0, kLensDimension);
+                const MultiJitterSet pixelSet(spp, mjPattern(settings.seed, pixel, 0, kPixelDimension));
+                const MultiJitterSet lensSet(spp, mjPattern(settings.seed, pixel, 0, kLensDimension));
                 const size_t fi = film.index(x, y);
                 for (uint32_t s = firstSample; s < firstSample + sampleCount; ++s) {
-                    const Vec2f u = multiJitter2D(s, spp, pixelPattern);
-                    const Vec2f uLens = useLens ? multiJitter2D(s, spp, lensPattern) : Vec2f{0.5f, 0.5f};
+                    const Vec2f u = pixelSet.sample(s);
+                    const Vec2f uLens = useLens ? lensSet.sample(s) : Vec2f{0.5f, 0.5f};
                     const Ray ray = camera.generateRay(float(x) + u.x, float(y) + u.y, uLens);
                     FirstHit first;
                     const Rgb L = integrator.Li(ray, SampleKey{settings.seed, pixel, s}, counts, &first);

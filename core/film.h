@@ -42,7 +42,9 @@ public:
         sum_[3 * i + 2] += L.b;
     }
     void addAov(size_t i, const Rgb& albedo, const Vec3f& normal, float depth) {
-        albedo_[i] += albedo;
+        albedo_[3 * i] += albedo.r;
+        albedo_[3 * i + 1] += albedo.g;
+        albedo_[3 * i + 2] += albedo.b;
         normal_[i] += normal;
         depth_[i] += depth;
     }
@@ -63,9 +65,11 @@ private:
     CropWindow window_;
     uint32_t samples_ = 0;
     std::vector<double> sum_;  // double: millions of samples per pixel keep their precision
-    std::vector<Rgb> albedo_;
+    // Albedo and depth sums in double too: a huge albedo or distance summed
+    // over samples would overflow float to inf. Unit normals cannot.
+    std::vector<double> albedo_;
     std::vector<Vec3f> normal_;
-    std::vector<float> depth_;
+    std::vector<double> depth_;
 };
 
 }  // namespace penumbra

@@ -166,31 +166,42 @@ void writeImage(const fs::path& path, const Film& film, const ImageWriteOptions&
         writeAovExr(path, film, options.metadata, true);
         return;
     }
-    static_assert(std::endian::native == std::endian::little, "the PFM writer assumes a little-endian host");
-    if (fmt == ImageFormat::Pfm) {
-        writePfm(path, film);
-    } else if (isFloatFormat(fmt)) {
-        OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-        addMetadata(spec, options.metadata);
-        std::vector<float> px = film.radianceBuffer(3);
-        writeRaw(path, spec, px.data(), OIIO::TypeDesc::FLOAT);
-    } else {
-        OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-        addMetadata(spec, options.metadata);
-        spec.attribute("oiio:ColorSpace", "sRGB");
-        const float scale = std::exp2(options.exposure);
-        std::vector<uint8_t> px(size_t(w) * h * 3);
-        for (size_t i = 0, n = size_t(w) * h; i < n; ++i) {
-            Rgb L = film.radiance(i) * scale;
-            px[3 * i] = uint8_t(std::lround(linearToSrgb(L.r) * 255.f));
-            px[3 * i + 1] = uint8_t(std::lround(linearToSrgb(L.g) * 255.f));
-            px[3 * i + 2] = uint8_t(std::lround(linearToSrgb(L.b) * 255.f));
-        }
-        writeRaw(path, spec, px.data(), OIIO::TypeDesc::UINT8);
-    }
+    // Other formats keep their AOVs in a sibling EXR. It is written first and
+    // removed again if the main image fails, so a failure leaves neither.
+    fs::path aovPath;
     if (options.aovs && film.hasAovs()) {
-        fs::path aovPath = path.parent_path() / (path.stem().string() + ".aovs.exr");
+        aovPath = path.parent_path() / (path.stem().string() + ".aovs.exr");
         writeAovExr(aovPath, film, options.metadata, false);
+    }
+    try {
+        static_assert(std::endian::native == std::endian::little, "the PFM writer assumes a little-endian host");
+        if (fmt == ImageFormat::Pfm) {
+            writePfm(path, film);
+        } else if (isFloatFormat(fmt)) {
+            OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+            addMetadata(spec, options.metadata);
+            std::vector<float> px = film.radianceBuffer(3);
+            writeRaw(path, spec, px.data(), OIIO::TypeDesc::FLOAT);
+        } else {
+            OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+            addMetadata(spec, options.metadata);
+            spec.attribute("oiio:ColorSpace", "sRGB");
+            const float scale = std::exp2(options.exposure);
+            std::vector<uint8_t> px(size_t(w) * h * 3);
+            for (size_t i = 0, n = size_t(w) * h; i < n; ++i) {
+                Rgb L = film.radiance(i) * scale;
+                px[3 * i] = uint8_t(std::lround(linearToSrgb(L.r) * 255.f));
+                px[3 * i + 1] = uint8_t(std::lround(linearToSrgb(L.g) * 255.f));
+                px[3 * i + 2] = uint8_t(std::lround(linearToSrgb(L.b) * 255.f));
+            }
+            writeRaw(path, spec, px.data(), OIIO::TypeDesc::UINT8);
+        }
+    } catch (...) {
+        if (!aovPath.empty()) {
+            std::error_code ec;
+            fs::remove(aovPath, ec);
+        }
+        throw;
     }
 }
 

@@ -5,9 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
+#include <string>
 
 namespace penumbra {
 namespace {
+
+// Larger decoded textures are refused (with a warning) rather than allocated.
+constexpr double kMaxTextureBytes = 2.0 * double(1 << 30);
 
 float srgbToLinear(float c) {
     c = std::clamp(c, 0.f, 1.f);
@@ -56,15 +61,33 @@ TextureCache::TextureCache(const std::vector<std::string>& paths, const Logger& 
         e.handle = impl_->ts->get_texture_handle(file);
         OIIO::ImageSpec spec;
         bool ok = e.handle && impl_->ts->good(e.handle) && impl_->ts->get_imagespec(e.handle, nullptr, 0, spec);
+        std::string why;
         if (ok) {
             e.channels = spec.nchannels;
             e.srgb = isSrgb(spec);
+            // A header may claim any size; OpenImageIO would try to allocate it.
+            const double bytes = double(spec.width) * double(spec.height) * double(std::max(spec.depth, 1)) *
+                                 double(spec.nchannels) * double(spec.format.size());
+            if (bytes > kMaxTextureBytes) {
+                ok = false;
+                why = "its header claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                      " pixels, more than the " + std::to_string(int(kMaxTextureBytes / double(1 << 30))) +
+                      " GiB Penumbra accepts for a texture";
+            }
+        }
+        if (ok) {
             // Reading a texel now makes a file with a good header but bad pixels fail here, not mid-render.
             float probe[3];
-            ok = impl_->fetch(e, 0.5f, 0.5f, 0.f, probe);
+            try {
+                ok = impl_->fetch(e, 0.5f, 0.5f, 0.f, probe);
+            } catch (const std::bad_alloc&) {
+                ok = false;
+                why = "out of memory while reading it";
+            }
         }
         if (!ok) {
-            std::string why = impl_->ts->geterror();
+            if (why.empty()) why = impl_->ts->geterror();
+            std::replace(why.begin(), why.end(), '\n', ' ');  // keep the warning on one line
             log.warn(paths[i] + ": cannot read texture" + (why.empty() ? std::string() : " (" + why + ")") +
                      "; rendering without it");
             continue;

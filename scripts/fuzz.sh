@@ -3,7 +3,7 @@
 # preset, build-fuzz/) and runs each for N seconds (default 60) on its seed
 # corpus in tests/fuzz/. Exits non-zero when a target crashes, trips a
 # sanitizer or breaks an invariant; the input that did it is kept in
-# build-fuzz/artifacts/<target>/ (replay: build-fuzz/tests/fuzz/<target> FILE).
+# build-fuzz/artifacts/<target>/ (replay: build-fuzz/bin/<target> FILE).
 # New interesting inputs go to build-fuzz/corpus/<target>/, never into the source tree.
 #   usage: scripts/fuzz.sh [SECONDS] [TARGET...]     (targets: fuzz_obj fuzz_json)
 set -euo pipefail
@@ -25,7 +25,7 @@ cmake --build --preset fuzz -j"$(nproc)" --target "${targets[@]}"
 
 failed=()
 for t in "${targets[@]}"; do
-  bin=build-fuzz/tests/fuzz/$t
+  bin=build-fuzz/bin/$t
   [[ -x "$bin" ]] || { echo "fuzz.sh: $bin was not built (is tests/fuzz added to the build?)" >&2; exit 1; }
   kind=${t#fuzz_}
   work=build-fuzz/corpus/$t

@@ -8,6 +8,7 @@ packages=(
   libembree-dev libtbb-dev libopenimageio-dev libtinyobjloader-dev
   libgtest-dev libcli11-dev nlohmann-json3-dev
   gnuplot-nox
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -245,7 +246,7 @@ TEST_F(BadInput, HugePolygonRenders) {
     const int n = 5000;
     std::string obj = "mtllib lamp.mtl\n";
     for (int i = 0; i < n; ++i) {
-        double a = 2.0 * M_PI * i / n;
+        double a = 2.0 * std::numbers::pi * i / n;
         char line[64];
         std::snprintf(line, sizeof line, "v %.9g %.9g 0\n", std::cos(a), std::sin(a));
         obj += line;

@@ -12,16 +12,19 @@ if (!exists("datafile")) datafile = 'bench_rays.tsv'
 if (!exists("outfile")) outfile = 'bench_rays.png'
 if (!exists("plottitle")) plottitle = 'penumbra-bench'
 
-set terminal pngcairo size 1100,720 enhanced font 'sans,11'
+set terminal pngcairo size 1000,700 enhanced font 'sans,11'
 set output outfile
 set title plottitle noenhanced
 set logscale xy
+set yrange [*:3e8]
+set autoscale xfix
+set offsets graph 0.03, graph 0.03, 0, 0
 set format x '10^{%L}'
 set format y '10^{%L}'
 set xlabel 'triangles in the scene'
 set ylabel 'rays per second'
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
-set key outside right top noenhanced
+set key inside top right maxrows 3 samplen 3 spacing 1.1 noenhanced opaque box lc rgb '#cccccc'
 set key autotitle columnheader
 
 # Colour = ray kind, dash and point shape = accelerator.

@@ -72,16 +72,23 @@ SceneResult runScene(BenchScene bench, const BenchOptions& o, int threads, const
 
     // Builds, timed on their own (the prepared scene's accelerator answers the rays).
     r.embree.present = true;
+    r.embreeThin.present = true;
     bestBuild(o.repetitions, [&] { return makeEmbreeAccelerator(scene); }, r.embree.buildSeconds);
     r.embree.memoryBytes = embree.memoryBytes();
 
-    std::unique_ptr<RawEmbreeScene> raw;
+    std::unique_ptr<RawEmbreeScene> raw, rawFast;
     if (r.triangleOnly && !scene.meshes.empty()) {
         raw = bestBuild(o.repetitions, [&] { return std::make_unique<RawEmbreeScene>(scene); }, r.raw.buildSeconds);
         r.raw.present = true;
         r.raw.deviceSeconds = raw->deviceSeconds();
         r.raw.memoryBytes = raw->memoryBytes();
         r.raw.frame.note = "the raw harness renders no frames";
+        rawFast = bestBuild(
+            o.repetitions, [&] { return std::make_unique<RawEmbreeScene>(scene, RawEmbreeOptions{BuildQuality::High, false}); },
+            r.rawFast.buildSeconds);
+        r.rawFast.present = true;
+        r.rawFast.memoryBytes = rawFast->memoryBytes();
+        r.rawFast.frame.note = r.raw.frame.note;
     } else {
         r.raw.note = "not measured: the scene has analytic shapes (the raw ceiling holds triangles only)";
     }
@@ -104,30 +111,41 @@ SceneResult runScene(BenchScene bench, const BenchOptions& o, int threads, const
 
         // The renderer, raw Embree and its packets answer the whole set,
         // interleaved so that load from elsewhere falls on all of them alike.
+        // Closest-hit sets also time the renderer's thin query alone
+        // (intersectPrim, no Scene::completeHit) to split its overhead.
         std::vector<std::unique_ptr<RayLoop>> loops;
         loops.push_back(acceleratorLoop(embree, rays, occlusion));
+        const size_t primAt = loops.size();
+        if (!occlusion) loops.push_back(thinQueryLoop(embree, rays));
+        const size_t rawAt = loops.size();
         std::vector<int> widths;
         if (raw) {
             widths.push_back(1);
             if (kind != RayKind::Incoherent) widths.insert(widths.end(), {8, 16});
             for (int w : widths) loops.push_back(rawLoop(*raw, rays, occlusion, w));
+            loops.push_back(rawLoop(*rawFast, rays, occlusion, 1));
         }
         std::vector<RayLoop*> timed;
         for (auto& l : loops) timed.push_back(l.get());
         const auto rates = measureInterleaved(timed, rays.size(), threads, o.repetitions, true);
         r.embree.kinds[k] = rates[0];
+        if (!occlusion) r.embreeThin.kinds[k] = rates[primAt];
         const Answers reference = loops[0]->answers();
         std::vector<size_t> all(rays.size());
         for (size_t i = 0; i < all.size(); ++i) all[i] = i;
         for (size_t i = 0; i < widths.size(); ++i) {
             const int w = widths[i];
             const std::string what = std::string(rayKindName(kind)) + (w == 1 ? "" : " x" + std::to_string(w));
-            r.rawVsEmbree[k] += compareAnswers(reference, loops[i + 1]->answers(), all, occlusion, what.c_str());
+            r.rawVsEmbree[k] += compareAnswers(reference, loops[rawAt + i]->answers(), all, occlusion, what.c_str());
             if (w == 1) {
-                r.raw.kinds[k] = rates[i + 1];
+                r.raw.kinds[k] = rates[rawAt + i];
             } else {
-                r.packets.push_back(PacketFigures{w, kind, raw->nativePacket(w), rates[i + 1]});
+                r.packets.push_back(PacketFigures{w, kind, raw->nativePacket(w), rates[rawAt + i]});
             }
+        }
+        if (rawFast) {
+            r.rawFast.kinds[k] = rates.back();
+            r.rawFastVsEmbree[k] = compareAnswers(reference, loops.back()->answers(), all, occlusion, rayKindName(kind));
         }
 
         // The naive loop answers an evenly spread subset, once (its time is

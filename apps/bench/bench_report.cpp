@@ -1,17 +1,13 @@
 #include "bench_report.h"
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
-#include <chrono>
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <sstream>
 
-#include "core/error.h"
 #include "core/parallel.h"
 #include "plot_script.h"
 
@@ -50,11 +46,23 @@ std::string times(const std::optional<double>& v) {
     return (*v >= 100.0 ? fmt("%.0f", *v) : fmt("%.1f", *v)) + "x";
 }
 
-const AccelFigures& accelAt(const SceneResult& r, int a) { return a == 0 ? r.embree : (a == 1 ? r.raw : r.naive); }
+// Accelerators: 0 embree, 1 raw, 2 naive, 3 raw without the robust flag,
+// 4 embree's thin query only.
+const AccelFigures& accelAt(const SceneResult& r, int a) {
+    switch (a) {
+        case 0: return r.embree;
+        case 1: return r.raw;
+        case 2: return r.naive;
+        case 3: return r.rawFast;
+        default: return r.embreeThin;
+    }
+}
 
 std::string accelLabel(const SceneResult& r, int a) {
     if (a == 0) return "embree";
     if (a == 1) return "raw embree";
+    if (a == 3) return "raw, not robust";
+    if (a == 4) return "embree intersectPrim";
     return "naive (" + std::to_string(r.naive.kinds[size_t(RayKind::Camera)].rays) + " rays)";
 }
 
@@ -179,15 +187,19 @@ void printReport(std::FILE* out, const std::vector<SceneResult>& results, const 
                  ("shd " + std::to_string(T) + "T").c_str(), "inc 1T", ("inc " + std::to_string(T) + "T").c_str(),
                  "frame 1T", ("frame " + std::to_string(T) + "T").c_str());
     for (const auto& r : results) {
-        for (int a = 0; a < 3; ++a) {
+        for (int a : {0, 4, 1, 3, 2}) {
             const AccelFigures& f = accelAt(r, a);
             const std::string scene = a == 0 ? r.name : "";
+            if ((a == 3 || a == 4) && !f.present) continue;
             if (!f.present) {
                 std::fprintf(out, "  %-14s %-20s %s\n", scene.c_str(), accelLabel(r, a).c_str(), f.note.c_str());
                 continue;
             }
-            const std::string build = a == 2 ? "-" : fmt("%.2f", f.buildSeconds * 1e3);
-            const std::string bpt = a == 2 ? "0" : fmt("%.1f", r.triangles ? double(f.memoryBytes) / double(r.triangles) : 0.0);
+            // The naive loop builds nothing; the thin query shares embree's structure.
+            const std::string build = a == 2 || a == 4 ? "-" : fmt("%.2f", f.buildSeconds * 1e3);
+            const std::string bpt = a == 2   ? "0"
+                                    : a == 4 ? "-"
+                                             : fmt("%.1f", r.triangles ? double(f.memoryBytes) / double(r.triangles) : 0.0);
             const std::string f1 = f.frame.measured ? fmt("%.1f", f.frame.seconds1 * 1e3) : "-";
             const std::string fN = f.frame.measured ? fmt("%.1f", f.frame.secondsAll * 1e3) : "-";
             std::fprintf(out, "  %-14s %-20s %9s %7s  %7s %7s  %7s %7s  %7s %7s  %9s %9s\n", scene.c_str(),
@@ -267,6 +279,11 @@ void printReport(std::FILE* out, const std::vector<SceneResult>& results, const 
                  s.naiveVsEmbree.compared, s.naiveVsEmbree.fraction() * 100.0);
     std::fprintf(out, "  raw vs embree:   %zu of %zu rays differ (%.4f%%)\n", s.rawVsEmbree.mismatches,
                  s.rawVsEmbree.compared, s.rawVsEmbree.fraction() * 100.0);
+    Disagreement fast;
+    for (const auto& r : results)
+        for (const auto& d : r.rawFastVsEmbree) fast += d;
+    std::fprintf(out, "  (not checked) raw without the robust flag vs embree: %zu of %zu rays differ (%.4f%%)\n",
+                 fast.mismatches, fast.compared, fast.fraction() * 100.0);
     for (const auto& r : results)
         for (size_t k = 0; k < kRayKindCount; ++k) {
             for (const auto& e : r.naiveVsEmbree[k].examples)
@@ -329,7 +346,23 @@ json toJson(const std::vector<SceneResult>& results, const BenchOptions& o, cons
         } else {
             raw = {{"note", r.raw.note}};
         }
+        json thin;
+        for (RayKind k : {RayKind::Camera, RayKind::Incoherent}) thin[rayKindName(k)] = rateJson(r.embreeThin.kinds[size_t(k)]);
+        accels["embree_intersect_prim"] = {
+            {"note", "the renderer's accelerator through intersectPrim only (no Scene::completeHit); closest-hit kinds"},
+            {"rays", thin}};
         accels["raw_embree"] = raw;
+        if (r.rawFast.present) {
+            json fast = accelJson(r, r.rawFast, false);
+            fast["note"] = "raw Embree without RTC_SCENE_FLAG_ROBUST; disagreements reported, not checked";
+            json agreeFast;
+            for (size_t k = 0; k < kRayKindCount; ++k)
+                agreeFast[rayKindName(kRayKinds[k])] = disagreementJson(r.rawFastVsEmbree[k]);
+            fast["agreement_with_embree"] = agreeFast;
+            accels["raw_embree_not_robust"] = fast;
+        } else {
+            accels["raw_embree_not_robust"] = nullptr;
+        }
         s["accelerators"] = accels;
 
         json agree;
@@ -350,6 +383,7 @@ json toJson(const std::vector<SceneResult>& results, const BenchOptions& o, cons
         for (size_t k = 0; k < kRayKindCount; ++k) {
             ratios["renderer_over_raw_nt"][rayKindName(kRayKinds[k])] = optJson(q.kindOverRawAll[k]);
             ratios["embree_over_naive_1t"][rayKindName(kRayKinds[k])] = optJson(q.embreeOverNaive[k]);
+            ratios["raw_not_robust_over_raw_nt"][rayKindName(kRayKinds[k])] = optJson(q.notRobustOverRaw[k]);
         }
         s["ratios"] = ratios;
         scenes.push_back(s);

@@ -37,6 +37,9 @@ SceneRatios ratiosOf(const SceneResult& r) {
             if (ok) q.frameOverQuery = ratio(r.embree.frame.secondsAll, pure);
         }
     }
+    if (r.raw.present && r.rawFast.present)
+        for (size_t k = 0; k < kRayKindCount; ++k)
+            q.notRobustOverRaw[k] = ratio(r.rawFast.kinds[k].mraysAll(), r.raw.kinds[k].mraysAll());
     if (r.embree.frame.measured) q.renderScaling = ratio(r.embree.frame.mraysAll(), r.embree.frame.mrays1());
     if (r.naive.present)
         for (size_t k = 0; k < kRayKindCount; ++k)

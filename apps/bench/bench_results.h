@@ -41,8 +41,15 @@ struct SceneResult {
     int imageSide = 0;
     size_t cameraHits = 0, mirrorRays = 0, randomRays = 0;
     AccelFigures embree, naive, raw;
+    /// The renderer's accelerator through intersectPrim only (closest-hit
+    /// kinds; no Scene::completeHit): splits its overhead over raw Embree.
+    AccelFigures embreeThin;
+    /// Raw Embree without RTC_SCENE_FLAG_ROBUST (single rays): what the
+    /// renderer's robust traversal costs. Its disagreements are reported,
+    /// not checked (without the flag Embree is not watertight).
+    AccelFigures rawFast;
     std::vector<PacketFigures> packets;
-    std::array<Disagreement, kRayKindCount> naiveVsEmbree, rawVsEmbree;
+    std::array<Disagreement, kRayKindCount> naiveVsEmbree, rawVsEmbree, rawFastVsEmbree;
 };
 
 /// The ratios for one scene; empty where they do not apply.
@@ -54,6 +61,7 @@ struct SceneRatios {
     std::optional<double> buildOverRaw, buildOverRawWithDevice;    // target <= 1.1
     std::optional<double> memoryOverRaw;                           // target <= 1.2
     std::array<std::optional<double>, kRayKindCount> embreeOverNaive;  // one thread
+    std::array<std::optional<double>, kRayKindCount> notRobustOverRaw;  // all threads
 };
 SceneRatios ratiosOf(const SceneResult& r);
 

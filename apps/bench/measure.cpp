@@ -97,6 +97,31 @@ private:
     Answers out_;
 };
 
+class ThinQueryLoop final : public RayLoop {
+public:
+    ThinQueryLoop(const Accelerator& accel, const std::vector<Ray>& rays)
+        : accel_(accel), rays_(rays), out_(rays.size()) {}
+    void run(int threads) override {
+        forChunks(rays_.size(), threads, [&](size_t b, size_t e) {
+            for (size_t i = b; i < e; ++i) {
+                const auto h = accel_.intersectPrim(rays_[i]);
+                ClosestAnswer& a = out_[i];
+                a.hit = h.has_value();
+                if (h) {
+                    a.ref = h->ref;
+                    a.t = h->t;
+                }
+            }
+        });
+    }
+    Answers answers() const override { return Answers{out_, {}}; }
+
+private:
+    const Accelerator& accel_;
+    const std::vector<Ray>& rays_;
+    std::vector<ClosestAnswer> out_;
+};
+
 class RawLoop final : public RayLoop {
 public:
     RawLoop(const RawEmbreeScene& raw, const std::vector<Ray>& rays, bool occlusion, int width)
@@ -144,6 +169,10 @@ Timing timingOf(std::vector<double> t) {
 
 std::unique_ptr<RayLoop> acceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion) {
     return std::make_unique<AcceleratorLoop>(accel, rays, occlusion);
+}
+
+std::unique_ptr<RayLoop> thinQueryLoop(const Accelerator& accel, const std::vector<Ray>& rays) {
+    return std::make_unique<ThinQueryLoop>(accel, rays);
 }
 
 std::unique_ptr<RayLoop> rawLoop(const RawEmbreeScene& raw, const std::vector<Ray>& rays, bool occlusion,

@@ -64,6 +64,10 @@ public:
 /// as the integrator calls it) or occlusion through Accelerator::occluded.
 std::unique_ptr<RayLoop> acceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion);
 
+/// Closest hits through Accelerator::intersectPrim only: the thin answer,
+/// without Scene::completeHit.
+std::unique_ptr<RayLoop> thinQueryLoop(const Accelerator& accel, const std::vector<Ray>& rays);
+
 /// The same through raw Embree: packetWidth 1 = rtcIntersect1/rtcOccluded1,
 /// 4/8/16 = packets of consecutive rays.
 std::unique_ptr<RayLoop> rawLoop(const RawEmbreeScene& raw, const std::vector<Ray>& rays, bool occlusion,

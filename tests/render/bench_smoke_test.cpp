@@ -149,6 +149,7 @@ TEST_F(BenchSmoke, EveryAcceleratorAnsweredEveryRayKind) {
             EXPECT_LE(n.at("rays").get<size_t>(), 256u);
             EXPECT_GT(n.at("mrays_1t").get<double>(), 0.0);
         }
+        EXPECT_GT(acc.at("embree_intersect_prim").at("rays").at("camera").at("mrays_1t").get<double>(), 0.0);
         EXPECT_GT(acc.at("embree").at("memory_bytes").get<size_t>(), 0u);
         EXPECT_GT(acc.at("embree").at("build_seconds").get<double>(), 0.0);
         EXPECT_EQ(acc.at("naive").at("memory_bytes").get<size_t>(), 0u);
@@ -162,8 +163,13 @@ TEST_F(BenchSmoke, EveryAcceleratorAnsweredEveryRayKind) {
             EXPECT_TRUE(ratios.at("camera_renderer_over_raw_1t").is_number());
             EXPECT_TRUE(ratios.at("memory_renderer_over_raw").is_number());
             EXPECT_TRUE(ratios.at("frame_over_query_nt").is_number());
+            // The same without the robust flag: measured, compared, not checked.
+            const json& fast = acc.at("raw_embree_not_robust");
+            EXPECT_GT(fast.at("rays").at("incoherent").at("mrays_nt").get<double>(), 0.0);
+            EXPECT_EQ(fast.at("agreement_with_embree").at("camera").at("compared"), sets.at("camera"));
         } else {
             EXPECT_FALSE(raw.contains("rays"));
+            EXPECT_TRUE(acc.at("raw_embree_not_robust").is_null());
             EXPECT_NE(raw.at("note").get<std::string>().find("analytic"), std::string::npos);
             EXPECT_TRUE(ratios.at("camera_renderer_over_raw_1t").is_null());
         }

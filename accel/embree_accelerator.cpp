@@ -26,6 +26,7 @@
 
 #include "accel/accelerator.h"
 #include "accel/embree_device.h"
+#include "accel/embree_packets.h"
 #include "core/error.h"
 
 namespace penumbra {
@@ -205,16 +206,56 @@ public:
             for (unsigned& id : rh.hit.instID) id = RTC_INVALID_GEOMETRY_ID;
             rtcIntersect1(rtcScene_.get(), &ctx, &rh);
             if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-                PrimRef ref;
-                if (rh.hit.geomID >= kFirstMeshGeomId) {
-                    ref = PrimRef{ShapeKind::Mesh, rh.hit.geomID - kFirstMeshGeomId, rh.hit.primID};
-                } else {
-                    ref = PrimRef{kKindOfUserGeom[rh.hit.geomID], rh.hit.primID, 0};
-                }
-                best = PrimIntersection{ref, rh.ray.tfar, rh.hit.u, rh.hit.v};
+                best = PrimIntersection{refOf(rh.hit.geomID, rh.hit.primID), rh.ray.tfar, rh.hit.u, rh.hit.v};
                 r.tfar = rh.ray.tfar;
             }
         }
+        closerPlane(r, best);
+        return best;
+    }
+
+    void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out) const override {
+        // Packets as wide as the remaining rays need: 16, 8 or 4 lanes.
+        for (size_t i = 0; i < rays.size();) {
+            const size_t left = rays.size() - i;
+            if (left == 1) {
+                out[i] = intersectPrim(rays[i]);
+                i += 1;
+            } else if (left <= 4) {
+                i += intersectPacket<4>(rays.subspan(i), out.subspan(i));
+            } else if (left <= 8) {
+                i += intersectPacket<8>(rays.subspan(i), out.subspan(i));
+            } else {
+                i += intersectPacket<16>(rays.subspan(i), out.subspan(i));
+            }
+        }
+    }
+
+    void occludedBatch(std::span<const Ray> rays, std::span<uint8_t> out) const override {
+        for (size_t i = 0; i < rays.size();) {
+            const size_t left = rays.size() - i;
+            if (left == 1) {
+                out[i] = occluded(rays[i]) ? 1 : 0;
+                i += 1;
+            } else if (left <= 4) {
+                i += occludedPacket<4>(rays.subspan(i), out.subspan(i));
+            } else if (left <= 8) {
+                i += occludedPacket<8>(rays.subspan(i), out.subspan(i));
+            } else {
+                i += occludedPacket<16>(rays.subspan(i), out.subspan(i));
+            }
+        }
+    }
+
+    // Maps an Embree hit back to the scene's arrays (geometries are attached by id).
+    static PrimRef refOf(unsigned geomID, unsigned primID) {
+        if (geomID >= kFirstMeshGeomId) return PrimRef{ShapeKind::Mesh, geomID - kFirstMeshGeomId, primID};
+        return PrimRef{kKindOfUserGeom[geomID], primID, 0};
+    }
+
+    // Planes are tested outside Embree (see the top of this file): replaces
+    // `best` with a plane hit closer than r.tfar, shrinking r.tfar.
+    void closerPlane(Ray& r, std::optional<PrimIntersection>& best) const {
         const auto& planes = scene_.planes;
         for (size_t i = 0; i < planes.size(); ++i) {
             if (auto h = penumbra::intersect(planes[i], r)) {
@@ -222,8 +263,90 @@ public:
                 best = PrimIntersection{PrimRef{ShapeKind::Plane, static_cast<uint32_t>(i), 0}, h->t, h->u, h->v};
             }
         }
-        return best;
     }
+
+    // One packet of up to W rays; returns how many rays it answered. Lanes
+    // whose ray is invalid (counted) or has an empty interval stay inactive,
+    // so no invalid ray reaches Embree; they miss, exactly as intersectPrim says.
+    template <int W>
+    size_t intersectPacket(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out) const {
+        const int n = static_cast<int>(std::min<size_t>(W, rays.size()));
+        alignas(64) int valid[W];
+        alignas(64) typename Packet<W>::RayHit rh;
+        bool any = false;
+        for (int l = 0; l < W; ++l) {
+            const bool ok = l < n && acceptRay(rays[l]) && rays[l].tfar > rays[l].tnear;
+            valid[l] = ok ? -1 : 0;
+            any |= ok;
+            setLane(rh.ray, l, ok ? rays[l] : kIdleLane);
+            rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.primID[l] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
+        }
+        if (any && hasEmbreeGeometry_) {
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            Packet<W>::intersect(valid, rtcScene_.get(), &ctx, &rh);
+        }
+        for (int l = 0; l < n; ++l) {
+            out[l].reset();
+            if (!valid[l]) continue;
+            Ray r = rays[l];
+            if (rh.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID) {
+                out[l] = PrimIntersection{refOf(rh.hit.geomID[l], rh.hit.primID[l]), rh.ray.tfar[l], rh.hit.u[l],
+                                          rh.hit.v[l]};
+                r.tfar = rh.ray.tfar[l];
+            }
+            closerPlane(r, out[l]);
+        }
+        return size_t(n);
+    }
+
+    template <int W>
+    size_t occludedPacket(std::span<const Ray> rays, std::span<uint8_t> out) const {
+        const int n = static_cast<int>(std::min<size_t>(W, rays.size()));
+        alignas(64) int valid[W];
+        alignas(64) typename Packet<W>::RayOnly pr;
+        bool any = false;
+        for (int l = 0; l < W; ++l) {
+            bool ok = false;
+            if (l < n) {
+                out[l] = 0;
+                if (acceptRay(rays[l])) {
+                    // The open interval (tnear, tfar), as in occluded().
+                    Ray r = rays[l];
+                    r.tfar = std::nextafter(r.tfar, -kInfinity);
+                    if (r.tfar > r.tnear) {
+                        bool plane = false;
+                        for (const auto& p : scene_.planes)
+                            if (penumbra::intersect(p, r)) {
+                                plane = true;
+                                break;
+                            }
+                        if (plane) {
+                            out[l] = 1;
+                        } else {
+                            ok = hasEmbreeGeometry_;
+                            if (ok) setLane(pr, l, r);
+                        }
+                    }
+                }
+            }
+            valid[l] = ok ? -1 : 0;
+            any |= ok;
+            if (!ok) setLane(pr, l, kIdleLane);
+        }
+        if (!any) return size_t(n);
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        Packet<W>::occluded(valid, rtcScene_.get(), &ctx, &pr);
+        for (int l = 0; l < n; ++l)
+            if (valid[l] && pr.tfar[l] == -kInfinity) out[l] = 1;
+        return size_t(n);
+    }
+
+    // Filler for inactive packet lanes: a harmless ray Embree never traces.
+    static constexpr Ray kIdleLane{Vec3f{0.f, 0.f, 0.f}, Vec3f{0.f, 0.f, 1.f}, 0.f, 0.f};
 
     bool occluded(const Ray& ray) const override {
         if (!acceptRay(ray)) return false;

@@ -40,31 +40,49 @@ Rgb Integrator::directLight(const Hit& hit, const Material& m, const Rgb& kd, co
     const uint32_t n = static_cast<uint32_t>(settings_.lightSamples);
     const uint64_t dimBase = kFirstLightDimension + uint64_t(depth) * (nLights + 1);
 
-    // One light sample: f * L * cos / pdf * V (the cosine and f live in phongResponse).
-    auto contribution = [&](const Light& light, const LightSample& ls) -> Rgb {
-        if (dot(ls.wi, ng) <= 0.f) return {};  // below the geometric surface
-        Rgb f = phongResponse(m, kd, ns, wo, ls.wi, ls.delta);
-        if (f.isBlack()) return {};
-        Ray shadow = std::isinf(ls.distance) ? spawnRay(hit.p, ng, ls.wi) : spawnRayTo(hit.p, ng, ls.point);
-        ++counts.shadow;
-        if (accel_.occluded(shadow)) return {};
-        (void)light;
-        return f * ls.L / ls.pdf;
+    // The samples of one shading point are traced as packets: each candidate
+    // (above the surface, non-zero f) becomes a shadow ray with its weight
+    // f * L / pdf (the cosine and f live in phongResponse); the unoccluded
+    // weights are then summed in sample order, so results do not depend on
+    // how the rays were grouped.
+    constexpr uint32_t kBatch = 16;
+    Ray shadow[kBatch];
+    Rgb weight[kBatch];
+    uint8_t blocked[kBatch];
+    uint32_t pending = 0;
+    Rgb acc;
+    auto flush = [&] {
+        if (pending == 0) return;
+        accel_.occludedBatch(std::span<const Ray>(shadow, pending), std::span<uint8_t>(blocked, pending));
+        counts.shadow += pending;
+        for (uint32_t i = 0; i < pending; ++i)
+            if (!blocked[i]) acc += weight[i];
+        pending = 0;
+    };
+    auto add = [&](const LightSample& ls, float scale) {
+        if (dot(ls.wi, ng) <= 0.f) return;  // below the geometric surface
+        const Rgb f = phongResponse(m, kd, ns, wo, ls.wi, ls.delta);
+        if (f.isBlack()) return;
+        shadow[pending] = std::isinf(ls.distance) ? spawnRay(hit.p, ng, ls.wi) : spawnRayTo(hit.p, ng, ls.point);
+        weight[pending] = f * ls.L * (scale / ls.pdf);
+        if (++pending == kBatch) flush();
     };
 
     Rgb sum;
     if (settings_.lightSelection == LightSelection::All) {
         for (size_t j = 0; j < nLights; ++j) {
             const Light& light = lights_[j];
+            acc = Rgb{};
             if (light.isDelta()) {
-                if (auto ls = light.sample(hit.p, Vec2f{0.5f, 0.5f})) sum += contribution(light, *ls);
+                if (auto ls = light.sample(hit.p, Vec2f{0.5f, 0.5f})) add(*ls, 1.f);
+                flush();
+                sum += acc;
                 continue;
             }
             const MultiJitterSet set(n, mjPattern(key.seed, key.pixel, key.index, dimBase + j));
-            Rgb acc;
-            for (uint32_t k = 0; k < n; ++k) {
-                if (auto ls = light.sample(hit.p, set.sample(k))) acc += contribution(light, *ls);
-            }
+            for (uint32_t k = 0; k < n; ++k)
+                if (auto ls = light.sample(hit.p, set.sample(k))) add(*ls, 1.f);
+            flush();
             sum += acc / float(n);
         }
         return sum;
@@ -72,25 +90,28 @@ Rgb Integrator::directLight(const Hit& hit, const Material& m, const Rgb& kd, co
     // Power-proportional selection: n samples in total, each picks one light.
     const MultiJitterSet set(n, mjPattern(key.seed, key.pixel, key.index, dimBase + nLights));
     const MultiJitterSet pickSet(n, mjPattern(key.seed, key.pixel, key.index, dimBase + nLights + 0x9e37ULL));
-    Rgb acc;
     for (uint32_t k = 0; k < n; ++k) {
-        Vec2f pickU = pickSet.sample(k);
-        LightSet::Pick pick = lights_.pickByPower(pickU.x);
+        const LightSet::Pick pick = lights_.pickByPower(pickSet.sample(k).x);
         if (!(pick.probability > 0.f)) continue;
-        const Light& light = lights_[pick.index];
-        if (auto ls = light.sample(hit.p, set.sample(k))) acc += contribution(light, *ls) / pick.probability;
+        if (auto ls = lights_[pick.index].sample(hit.p, set.sample(k))) add(*ls, 1.f / pick.probability);
     }
+    flush();
     return acc / float(n);
 }
 
 Rgb Integrator::Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts, FirstHit* firstHit) const {
+    return Li(cameraRay, accel_.intersect(cameraRay), key, counts, firstHit);
+}
+
+Rgb Integrator::Li(const Ray& cameraRay, const std::optional<Hit>& primaryHit, const SampleKey& key, RayCounts& counts,
+                   FirstHit* firstHit) const {
     Rgb L;
     Rgb throughput(1.f);
     Ray ray = cameraRay;
     float pathLength = 0.f;
     ++counts.camera;
     for (int depth = 0;; ++depth) {
-        auto hit = accel_.intersect(ray);
+        const std::optional<Hit> hit = depth == 0 ? primaryHit : accel_.intersect(ray);
         if (!hit) {
             L += throughput * scene_.background;
             break;

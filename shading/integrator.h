@@ -61,6 +61,10 @@ public:
 
     /// Radiance arriving along the camera ray.
     Rgb Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts, FirstHit* firstHit) const;
+    /// The same, with the camera ray's closest hit already found (the renderer
+    /// traces camera rays as packets).
+    Rgb Li(const Ray& cameraRay, const std::optional<Hit>& primaryHit, const SampleKey& key, RayCounts& counts,
+           FirstHit* firstHit) const;
 
 private:
     Rgb directLight(const Hit& hit, const Material& m, const Rgb& kd, const Vec3f& ng, const Vec3f& ns,

@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <optional>
+#include <span>
 
 #include "core/error.h"
 #include "core/multi_jitter.h"
@@ -85,24 +87,44 @@ RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& cameraDe
         const int y0 = window.y0 + int(t / size_t(tilesX)) * tile;
         const int x1 = std::min(x0 + tile, window.x1), y1 = std::min(y0 + tile, window.y1);
         RayCounts counts;
-        for (int y = y0; y < y1; ++y) {
+        // Camera rays go out as packets: the rays of one sample index over a
+        // block of up to 4x4 pixels are coherent. Each pixel still receives
+        // its samples in sample order, so films do not depend on the grouping.
+        constexpr int kBlock = 4;
+        Ray rays[kBlock * kBlock];
+        std::optional<Hit> hits[kBlock * kBlock];
+        for (int by = y0; by < y1; by += kBlock) {
             if (control.cancel && control.cancel->load(std::memory_order_relaxed)) {
                 stopped = true;
                 return;
             }
-            for (int x = x0; x < x1; ++x) {
-                const uint64_t pixel = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
-                const MultiJitterSet pixelSet(spp, mjPattern(settings.seed, pixel, 0, kPixelDimension));
-                const MultiJitterSet lensSet(spp, mjPattern(settings.seed, pixel, 0, kLensDimension));
-                const size_t fi = film.index(x, y);
+            for (int bx = x0; bx < x1; bx += kBlock) {
+                const int bw = std::min(kBlock, x1 - bx), bh = std::min(kBlock, y1 - by);
+                const int count = bw * bh;
+                uint64_t pixel[kBlock * kBlock];
+                size_t filmIndex[kBlock * kBlock];
+                std::optional<MultiJitterSet> pixelSet[kBlock * kBlock], lensSet[kBlock * kBlock];
+                for (int i = 0; i < count; ++i) {
+                    const int x = bx + i % bw, y = by + i / bw;
+                    pixel[i] = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
+                    filmIndex[i] = film.index(x, y);
+                    pixelSet[i].emplace(spp, mjPattern(settings.seed, pixel[i], 0, kPixelDimension));
+                    if (useLens) lensSet[i].emplace(spp, mjPattern(settings.seed, pixel[i], 0, kLensDimension));
+                }
                 for (uint32_t s = firstSample; s < firstSample + sampleCount; ++s) {
-                    const Vec2f u = pixelSet.sample(s);
-                    const Vec2f uLens = useLens ? lensSet.sample(s) : Vec2f{0.5f, 0.5f};
-                    const Ray ray = camera.generateRay(float(x) + u.x, float(y) + u.y, uLens);
-                    FirstHit first;
-                    const Rgb L = integrator.Li(ray, SampleKey{settings.seed, pixel, s}, counts, &first);
-                    film.addRadiance(fi, L);
-                    if (film.hasAovs()) film.addAov(fi, first.albedo, first.normal, first.depth);
+                    for (int i = 0; i < count; ++i) {
+                        const Vec2f u = pixelSet[i]->sample(s);
+                        const Vec2f uLens = useLens ? lensSet[i]->sample(s) : Vec2f{0.5f, 0.5f};
+                        rays[i] = camera.generateRay(float(bx + i % bw) + u.x, float(by + i / bw) + u.y, uLens);
+                    }
+                    prepared.accelerator().intersectBatch(std::span<const Ray>(rays, size_t(count)),
+                                                          std::span<std::optional<Hit>>(hits, size_t(count)));
+                    for (int i = 0; i < count; ++i) {
+                        FirstHit first;
+                        const Rgb L = integrator.Li(rays[i], hits[i], SampleKey{settings.seed, pixel[i], s}, counts, &first);
+                        film.addRadiance(filmIndex[i], L);
+                        if (film.hasAovs()) film.addAov(filmIndex[i], first.albedo, first.normal, first.depth);
+                    }
                 }
             }
         }

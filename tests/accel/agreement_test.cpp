@@ -17,6 +17,8 @@
 #include <string>
 #include <thread>
 #include <utility>
+#include <limits>
+#include <span>
 #include <vector>
 
 #include "accel/accelerator.h"
@@ -476,6 +478,66 @@ TEST(AcceleratorWatertightTest, RaysAtTheDiagonalsEdgesAndCornersOfATriangleCube
     EXPECT_GT(c.rays, 2000u);
     EXPECT_EQ(c.naiveHits, c.rays);
     EXPECT_EQ(c.embreeHits, c.rays);
+}
+
+// Packets (intersectPrimBatch / occludedBatch, 16, 8, 4 and 1 lanes) give the
+// answers of the single-ray queries, invalid rays included.
+TEST(AcceleratorBatchTest, BatchedQueriesMatchSingleRays) {
+    FlushDenormalsScope ftz;
+    const Scene scene = makeRandomScene(3);
+    auto embree = makeEmbreeAccelerator(scene);
+    auto naive = makeNaiveAccelerator(scene);
+    Rng rng(5);
+    std::vector<Ray> rays = cameraRays(120, 100, {0.f, 3.f, 28.f}, {0.f, 0.f, 0.f}, rng);
+    const std::vector<Ray> random = randomRays(8000, rng);
+    rays.insert(rays.end(), random.begin(), random.end());
+    // Invalid rays sprinkled in: they must miss, be counted, and never reach Embree.
+    for (size_t i = 7; i < rays.size(); i += 997) rays[i].o.x = std::numeric_limits<float>::quiet_NaN();
+    const size_t invalid = (rays.size() - 7 + 996) / 997;
+
+    for (const Accelerator* accel : {static_cast<const Accelerator*>(embree.get()),
+                                     static_cast<const Accelerator*>(naive.get())}) {
+        std::vector<std::optional<PrimIntersection>> single(rays.size()), batch(rays.size());
+        const uint64_t before = accel->invalidRayCount();
+        for (size_t i = 0; i < rays.size(); ++i) single[i] = accel->intersectPrim(rays[i]);
+        EXPECT_EQ(accel->invalidRayCount() - before, invalid);
+        // Batches of every width the implementation picks: 1..16 and longer runs.
+        size_t pos = 0;
+        for (size_t len = 1; pos < rays.size(); len = len % 23 + 1) {
+            const size_t n = std::min(len, rays.size() - pos);
+            accel->intersectPrimBatch(std::span(rays).subspan(pos, n), std::span(batch).subspan(pos, n));
+            pos += n;
+        }
+        EXPECT_EQ(accel->invalidRayCount() - before, 2 * invalid);
+        size_t same = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            const bool ok = single[i].has_value() == batch[i].has_value() &&
+                            (!single[i] || (single[i]->ref == batch[i]->ref &&
+                                            std::fabs(single[i]->t - batch[i]->t) <= 1e-4f * std::max(single[i]->t, 1.f)));
+            same += ok;
+        }
+        EXPECT_GE(double(same), 0.9999 * double(rays.size())) << accel->name();
+
+        std::vector<Ray> shadow = shadowRays(scene, rays, single, rng);
+        for (size_t i = 11; i < shadow.size(); i += 991) shadow[i].tfar = std::numeric_limits<float>::quiet_NaN();
+        std::vector<uint8_t> occSingle(shadow.size()), occBatch(shadow.size());
+        for (size_t i = 0; i < shadow.size(); ++i) occSingle[i] = accel->occluded(shadow[i]) ? 1 : 0;
+        pos = 0;
+        for (size_t len = 1; pos < shadow.size(); len = len % 19 + 1) {
+            const size_t n = std::min(len, shadow.size() - pos);
+            accel->occludedBatch(std::span(shadow).subspan(pos, n), std::span(occBatch).subspan(pos, n));
+            pos += n;
+        }
+        size_t sameOcc = 0, occludedCount = 0;
+        for (size_t i = 0; i < shadow.size(); ++i) {
+            sameOcc += occSingle[i] == occBatch[i];
+            occludedCount += occSingle[i];
+        }
+        EXPECT_GE(double(sameOcc), 0.9999 * double(shadow.size())) << accel->name();
+        EXPECT_GT(occludedCount, shadow.size() / 10);
+        std::cout << "[ measured ] " << accel->name() << " batch vs single: " << same << "/" << rays.size()
+                  << " closest hits, " << sameOcc << "/" << shadow.size() << " occlusion answers identical\n";
+    }
 }
 
 }  // namespace

@@ -114,7 +114,9 @@ SceneResult runScene(BenchScene bench, const BenchOptions& o, int threads, const
         // Closest-hit sets also time the renderer's thin query alone
         // (intersectPrim, no Scene::completeHit) to split its overhead.
         std::vector<std::unique_ptr<RayLoop>> loops;
-        loops.push_back(acceleratorLoop(embree, rays, occlusion));
+        // The renderer traces camera rays (4x4 pixel blocks) and light samples
+        // as packets and mirror rays one by one; the loop does the same.
+        loops.push_back(acceleratorLoop(embree, rays, occlusion, kind == RayKind::Incoherent ? 1 : 16));
         const size_t primAt = loops.size();
         if (!occlusion) loops.push_back(thinQueryLoop(embree, rays));
         const size_t rawAt = loops.size();

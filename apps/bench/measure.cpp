@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <span>
 #include <sstream>
 
 #include "core/parallel.h"
@@ -61,12 +63,16 @@ namespace {
 
 class AcceleratorLoop final : public RayLoop {
 public:
-    AcceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion)
-        : accel_(accel), rays_(rays), occlusion_(occlusion) {
+    AcceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion, int batch)
+        : accel_(accel), rays_(rays), occlusion_(occlusion), batch_(std::max(1, batch)) {
         if (occlusion) out_.occluded.assign(rays.size(), 0);
         else out_.closest.assign(rays.size(), ClosestAnswer{});
     }
     void run(int threads) override {
+        if (batch_ > 1) {
+            runBatched(threads);
+            return;
+        }
         if (occlusion_) {
             forChunks(rays_.size(), threads, [&](size_t b, size_t e) {
                 for (size_t i = b; i < e; ++i) out_.occluded[i] = accel_.occluded(rays_[i]) ? 1 : 0;
@@ -91,9 +97,35 @@ public:
     Answers answers() const override { return out_; }
 
 private:
+    // Groups of batch_ consecutive rays through the batch queries, as the
+    // renderer traces camera blocks and a shading point's light samples.
+    void runBatched(int threads) {
+        forChunks(rays_.size(), threads, [&](size_t b, size_t e) {
+            std::optional<Hit> hits[64];
+            for (size_t i = b; i < e; i += size_t(batch_)) {
+                const size_t n = std::min<size_t>({size_t(batch_), e - i, 64});
+                const std::span<const Ray> group(rays_.data() + i, n);
+                if (occlusion_) {
+                    accel_.occludedBatch(group, std::span<uint8_t>(out_.occluded.data() + i, n));
+                    continue;
+                }
+                accel_.intersectBatch(group, std::span<std::optional<Hit>>(hits, n));
+                for (size_t j = 0; j < n; ++j) {
+                    ClosestAnswer& a = out_.closest[i + j];
+                    a.hit = hits[j].has_value();
+                    if (hits[j]) {
+                        a.ref = hits[j]->ref;
+                        a.t = hits[j]->t;
+                    }
+                }
+            }
+        });
+    }
+
     const Accelerator& accel_;
     const std::vector<Ray>& rays_;
     bool occlusion_;
+    int batch_;
     Answers out_;
 };
 
@@ -167,8 +199,9 @@ Timing timingOf(std::vector<double> t) {
 
 }  // namespace
 
-std::unique_ptr<RayLoop> acceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion) {
-    return std::make_unique<AcceleratorLoop>(accel, rays, occlusion);
+std::unique_ptr<RayLoop> acceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion,
+                                        int batch) {
+    return std::make_unique<AcceleratorLoop>(accel, rays, occlusion, batch);
 }
 
 std::unique_ptr<RayLoop> thinQueryLoop(const Accelerator& accel, const std::vector<Ray>& rays) {

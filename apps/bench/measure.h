@@ -61,8 +61,11 @@ public:
 };
 
 /// Closest hits through Accelerator::intersect (Scene::completeHit included,
-/// as the integrator calls it) or occlusion through Accelerator::occluded.
-std::unique_ptr<RayLoop> acceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion);
+/// as the integrator calls it) or occlusion through Accelerator::occluded;
+/// with batch > 1, groups of `batch` consecutive rays through intersectBatch /
+/// occludedBatch (packets), as the renderer traces camera and shadow rays.
+std::unique_ptr<RayLoop> acceleratorLoop(const Accelerator& accel, const std::vector<Ray>& rays, bool occlusion,
+                                        int batch = 1);
 
 /// Closest hits through Accelerator::intersectPrim only: the thin answer,
 /// without Scene::completeHit.

@@ -1,14 +1,12 @@
 #include "shading/renderer.h"
 
-#include <pmmintrin.h>
-#include <xmmintrin.h>
-
 #include <chrono>
 #include <cmath>
 #include <mutex>
 #include <optional>
 #include <span>
 
+#include "core/denormals.h"
 #include "core/error.h"
 #include "core/multi_jitter.h"
 #include "core/parallel.h"
@@ -20,19 +18,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// Flush-to-zero / denormals-are-zero for the duration of a tile, as Embree
-// recommends for its traversal; restored afterwards so host threads are unchanged.
-class DenormalGuard {
-public:
-    DenormalGuard() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }
-    ~DenormalGuard() { _mm_setcsr(saved_); }
-    DenormalGuard(const DenormalGuard&) = delete;
-    DenormalGuard& operator=(const DenormalGuard&) = delete;
-
-private:
-    unsigned saved_;
-};
 
 }  // namespace
 

@@ -1,8 +1,5 @@
 #include "measure.h"
 
-#include <pmmintrin.h>
-#include <xmmintrin.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,6 +7,7 @@
 #include <span>
 #include <sstream>
 
+#include "core/denormals.h"
 #include "core/parallel.h"
 
 namespace penumbra::bench {
@@ -20,18 +18,6 @@ using Clock = std::chrono::steady_clock;
 // Large enough that the per-chunk task costs nothing next to the rays, small
 // enough that two threads stay balanced; a multiple of 16 for packets.
 constexpr size_t kChunk = 256;
-
-// Flush-to-zero / denormals-are-zero while a chunk runs, as in the renderer.
-class DenormalGuard {
-public:
-    DenormalGuard() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }
-    ~DenormalGuard() { _mm_setcsr(saved_); }
-    DenormalGuard(const DenormalGuard&) = delete;
-    DenormalGuard& operator=(const DenormalGuard&) = delete;
-
-private:
-    unsigned saved_;
-};
 
 std::string describe(const ClosestAnswer& a) {
     if (!a.hit) return "miss";

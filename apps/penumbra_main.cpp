@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <new>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "cli_options.h"
@@ -140,8 +141,15 @@ int runSteps(const Options& o, std::string& step) {
     log.setMinLevel(LogLevel::Warning);
     LoadOptions loadOptions;
     loadOptions.strict = o.strict;
+    // The CLI reads whatever the scene names, but says so when that is outside the scene's folder.
+    std::set<std::filesystem::path> outside;
+    loadOptions.noticeRoots = {o.scene.parent_path().empty() ? std::filesystem::path(".") : o.scene.parent_path()};
+    loadOptions.onReadOutside = [&](const std::filesystem::path& f) { outside.insert(f); };
     step = o.scene.string() + ": out of memory while loading the scene";
     LoadedScene loaded = loadScene(o.scene, loadOptions, log);
+    if (!outside.empty())
+        log.warn(o.scene.string() + ": reads " + std::to_string(outside.size()) +
+                 " file(s) outside the scene's folder, first " + outside.begin()->string());
 
     RenderSettings settings = settingsFrom(o, loaded.settings);
     validateSettings(settings);

@@ -309,7 +309,7 @@ public:
         fs::path rel(std::string(trim(matId)));
         fs::path candidate = rel.is_absolute() ? rel : dir_ / rel;
         try {
-            checkPathAllowed(candidate, options_);
+            checkPathAllowed(candidate, options_, /*willRead=*/false);
         } catch (const Error& e) {
             if (!error) error = e;
             return false;
@@ -500,7 +500,7 @@ private:
         fs::path dir = mtl.parent_path();
         fs::path relPath(rel);
         // Checked before probing the file system, and again after matching names.
-        checkPathAllowed(relPath.is_absolute() ? relPath : dir / relPath, options_);
+        checkPathAllowed(relPath.is_absolute() ? relPath : dir / relPath, options_, /*willRead=*/false);
         std::optional<fs::path> file = resolveCaseInsensitive(dir, relPath);
         if (!file) {
             if (missingTextures_.insert(name(mtl) + "\n" + rel).second)

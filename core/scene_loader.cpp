@@ -35,8 +35,16 @@ bool isBelow(const fs::path& file, const fs::path& root) {
 
 }  // namespace
 
-void checkPathAllowed(const fs::path& file, const LoadOptions& options) {
-    if (options.allowedRoots.empty()) return;
+void checkPathAllowed(const fs::path& file, const LoadOptions& options, bool willRead) {
+    if (options.allowedRoots.empty()) {
+        if (willRead && options.onReadOutside && !options.noticeRoots.empty()) {
+            const fs::path f = canonicalish(file);
+            const bool inside = std::any_of(options.noticeRoots.begin(), options.noticeRoots.end(),
+                                            [&](const fs::path& r) { return isBelow(f, canonicalish(r)); });
+            if (!inside) options.onReadOutside(f);
+        }
+        return;
+    }
     fs::path f = canonicalish(file);
     for (const auto& root : options.allowedRoots)
         if (isBelow(f, canonicalish(root))) return;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +21,11 @@ struct LoadOptions {
     /// When non-empty, only files below one of these directories may be read
     /// (the scene file itself, mtllib, textures, meshes referenced from JSON).
     std::vector<std::filesystem::path> allowedRoots;
+    /// Unrestricted loading (allowedRoots empty) can still report the files it
+    /// reads outside these directories to onReadOutside (the CLI passes the
+    /// scene file's folder and prints one summary line).
+    std::vector<std::filesystem::path> noticeRoots;
+    std::function<void(const std::filesystem::path&)> onReadOutside;
 };
 
 /// A scene as loaded from a file, with what the file says about the view.
@@ -60,7 +66,10 @@ LoadedScene loadScene(const std::filesystem::path& path, const LoadOptions& opti
 CameraDesc frameBounds(const Bounds3f& bounds, float vfovDegrees, float aspect);
 
 /// Checks `file` against options.allowedRoots; throws Error(InvalidArgument)
-/// naming the file when it lies outside all of them. No-op when unrestricted.
-void checkPathAllowed(const std::filesystem::path& file, const LoadOptions& options);
+/// naming the file when it lies outside all of them. When unrestricted, only
+/// reports files outside options.noticeRoots (if any) to options.noticeLog.
+/// `willRead` = false for checks made before probing the file system (the
+/// file actually read is checked again), so each read is reported once.
+void checkPathAllowed(const std::filesystem::path& file, const LoadOptions& options, bool willRead = true);
 
 }  // namespace penumbra

@@ -974,5 +974,20 @@ TEST(SharedScenes, SponzaTexturesResolveCaseInsensitively) {
     EXPECT_EQ(st.emissiveTriangles, 0u);
 }
 
+TEST(PathNotice, UnrestrictedLoadingReportsFilesOutsideTheNoticeRoots) {
+    fs::path dir = test::tempDir();
+    test::writeFile(dir / "shared" / "lib.mtl", "newmtl red\nKd 1 0 0\n");
+    fs::path obj = test::writeFile(dir / "scene" / "a.obj", "mtllib ../shared/lib.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
+    LogCapture log;
+    LoadOptions options;
+    std::vector<fs::path> reported;
+    options.noticeRoots = {dir / "scene"};
+    options.onReadOutside = [&](const fs::path& f) { reported.push_back(f); };
+    LoadedScene s = loadObjScene(obj, options, log.logger);
+    EXPECT_EQ(countTriangles(s.scene), 1u);  // still read: the CLI allows everything
+    ASSERT_EQ(reported.size(), 1u);         // the MTL, once; not the OBJ inside the folder
+    EXPECT_EQ(reported[0].filename(), "lib.mtl");
+}
+
 }  // namespace
 }  // namespace penumbra

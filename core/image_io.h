@@ -54,7 +54,8 @@ struct ImageData {
 /// Throws Error(IoError) naming the file.
 ImageData readImage(const std::filesystem::path& path);
 
-/// sRGB transfer function (linear -> encoded), for values in [0, 1].
+/// sRGB transfer functions: linear -> encoded (clamps to [0, 1]) and
+/// encoded -> linear (for values in [0, 1]).
 float linearToSrgb(float v);
 float srgbToLinear(float v);
 

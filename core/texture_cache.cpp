@@ -8,16 +8,13 @@
 #include <new>
 #include <string>
 
+#include "core/image_io.h"
+
 namespace penumbra {
 namespace {
 
 // Larger decoded textures are refused (with a warning) rather than allocated.
 constexpr double kMaxTextureBytes = 2.0 * double(1 << 30);
-
-float srgbToLinear(float c) {
-    c = std::clamp(c, 0.f, 1.f);
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 // OIIO 2.4's TextureOpt cannot convert colour spaces, so lookups linearise the
 // filtered value. Files say what they hold through oiio:ColorSpace; without it,
@@ -118,7 +115,7 @@ Rgb TextureCache::lookup(int texture, Vec2f uv, float footprint) const {
     }
     if (e.channels < 3) c[1] = c[2] = c[0];  // grey (+ alpha)
     if (e.srgb)
-        for (float& v : c) v = srgbToLinear(v);
+        for (float& v : c) v = srgbToLinear(std::clamp(v, 0.f, 1.f));
     return {c[0], c[1], c[2]};
 }
 

@@ -8,7 +8,6 @@
 namespace penumbra {
 
 enum class ShapeKind : uint8_t { Mesh = 0, Sphere = 1, Plane = 2, Box = 3, Rectangle = 4, Disk = 5 };
-inline constexpr int kShapeKindCount = 6;
 
 /// Identifies one primitive of the scene: shape kind, object index within that
 /// kind's array of the Scene, and triangle index (meshes) or 0.

@@ -69,11 +69,8 @@ LightSet::LightSet(const Scene& scene) {
 LightSet::Pick LightSet::pickByPower(float u) const {
     size_t i = std::upper_bound(powerCdf_.begin(), powerCdf_.end(), u) - powerCdf_.begin();
     i = std::min(i, powerCdf_.size() - 1);
-    // Skip zero-probability entries that upper_bound can land on at the ends.
-    float lo = i ? powerCdf_[i - 1] : 0.f;
-    float prob = powerCdf_[i] - lo;
-    float remapped = prob > 0.f ? std::clamp((u - lo) / prob, 0.f, 0x1.fffffep-1f) : 0.5f;
-    return {i, prob, remapped};
+    const float lo = i ? powerCdf_[i - 1] : 0.f;
+    return {i, powerCdf_[i] - lo};
 }
 
 }  // namespace penumbra

@@ -18,13 +18,10 @@ public:
     size_t size() const { return lights_.size(); }
     const Light& operator[](size_t i) const { return *lights_[i]; }
 
-    /// Power-proportional selection: light index for u in [0,1), with its
-    /// probability; the remainder of u is returned in uRemapped so it can be
-    /// reused as a fresh uniform number.
+    /// Power-proportional selection: light index for u in [0,1), with its probability.
     struct Pick {
         size_t index;
         float probability;
-        float uRemapped;
     };
     Pick pickByPower(float u) const;
 

@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
-  libembree-dev libtbb-dev libopenimageio-dev libtinyobjloader-dev
+  libembree-dev libtbb-dev libopenimageio-dev openimageio-tools libtinyobjloader-dev
   libgtest-dev libcli11-dev nlohmann-json3-dev
   gnuplot-nox
   clang libclang-rt-14-dev

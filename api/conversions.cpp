@@ -1,8 +1,30 @@
 // Conversions between the public API's values and the internal forms that
 // differ from them (the rest are one type: api/include/penumbra/types.hpp).
+// Vectors, colours and cameras keep internal twins with arithmetic of their
+// own; their layouts are pinned here, so a field added on one side only fails
+// to compile instead of being dropped by a conversion.
 #include "api/api_internal.h"
 
+#include <cstddef>
+#include <type_traits>
+
 #include "core/scene_loader.h"
+
+#define PNB_TWIN_FIELD(pub, pubf, inner, innerf)                                                       \
+    static_assert(offsetof(pub, pubf) == offsetof(inner, innerf) &&                                   \
+                      sizeof(std::declval<pub>().pubf) == sizeof(std::declval<inner>().innerf),       \
+                  #pub "::" #pubf " and " #inner "::" #innerf " differ")
+static_assert(sizeof(pnb::Vec3) == sizeof(penumbra::Vec3f) && sizeof(pnb::Color) == sizeof(penumbra::Rgb));
+PNB_TWIN_FIELD(pnb::Vec3, z, penumbra::Vec3f, z);
+PNB_TWIN_FIELD(pnb::Color, b, penumbra::Rgb, b);
+static_assert(sizeof(pnb::Camera) == sizeof(penumbra::CameraDesc), "Camera and CameraDesc differ: update in()/out()");
+PNB_TWIN_FIELD(pnb::Camera, eye, penumbra::CameraDesc, eye);
+PNB_TWIN_FIELD(pnb::Camera, lookAt, penumbra::CameraDesc, lookAt);
+PNB_TWIN_FIELD(pnb::Camera, up, penumbra::CameraDesc, up);
+PNB_TWIN_FIELD(pnb::Camera, vfovDegrees, penumbra::CameraDesc, vfovDegrees);
+PNB_TWIN_FIELD(pnb::Camera, aperture, penumbra::CameraDesc, aperture);
+PNB_TWIN_FIELD(pnb::Camera, focusDistance, penumbra::CameraDesc, focusDistance);
+#undef PNB_TWIN_FIELD
 
 namespace pnb {
 

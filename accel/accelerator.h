@@ -3,6 +3,8 @@
 // (the reference and the benchmark baseline).
 #pragma once
 
+#include <penumbra/types.hpp>
+
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -24,7 +26,7 @@ struct PrimIntersection {
     float u, v;
 };
 
-enum class BuildQuality { Low, Medium, High };
+using BuildQuality = pnb::BuildQuality;  // api/include/penumbra/types.hpp
 
 class Accelerator {
 public:

@@ -1,14 +1,20 @@
 # Checks the include rules that keep the architecture visible (run by CTest):
 #   Embree only in accel/, TBB only in core/parallel_tbb.cpp, OpenImageIO only
 #   in core/image_io.cpp and core/texture_cache.cpp, tinyobjloader only in
-#   core/obj_loader.cpp; the public headers include only the standard library
-#   and each other; lights/ and accel/ do not include each other.
+#   core/obj_loader.cpp; lights/ and accel/ do not include each other;
+#   the stack core <- accel, lights <- shading <- api <- apps points one way.
+#   The public headers (api/include/penumbra/) include only the standard
+#   library and each other; below api/ only <penumbra/types.hpp> (the value
+#   types, std-only) may be included, never the facade; the penumbra CLI
+#   (apps/penumbra/) includes only public headers, like any other host.
 # Usage: cmake -DSOURCE_DIR=<repo> -P CheckLayering.cmake
 file(GLOB_RECURSE _files RELATIVE ${SOURCE_DIR}
      ${SOURCE_DIR}/core/*.h ${SOURCE_DIR}/core/*.hpp ${SOURCE_DIR}/core/*.cpp
      ${SOURCE_DIR}/accel/*.h ${SOURCE_DIR}/accel/*.cpp
      ${SOURCE_DIR}/lights/*.h ${SOURCE_DIR}/lights/*.cpp
-     ${SOURCE_DIR}/shading/*.h ${SOURCE_DIR}/shading/*.cpp)
+     ${SOURCE_DIR}/shading/*.h ${SOURCE_DIR}/shading/*.cpp
+     ${SOURCE_DIR}/api/*.h ${SOURCE_DIR}/api/*.hpp ${SOURCE_DIR}/api/*.cpp
+     ${SOURCE_DIR}/apps/penumbra/*.h ${SOURCE_DIR}/apps/penumbra/*.cpp)
 set(_errors "")
 foreach(_f IN LISTS _files)
   file(STRINGS ${SOURCE_DIR}/${_f} _includes REGEX "^[ \t]*#[ \t]*include")
@@ -34,8 +40,23 @@ foreach(_f IN LISTS _files)
     if(_f MATCHES "^accel/" AND _line MATCHES "\"(lights|shading)/")
       list(APPEND _errors "${_f}: accel includes ${_line}")
     endif()
-    if(_f MATCHES "^core/include/penumbra/" AND _line MATCHES "\"" AND NOT _line MATCHES "\"penumbra/")
+    if(_f MATCHES "^(core|accel|lights|shading)/" AND _line MATCHES "\"api/")
+      list(APPEND _errors "${_f}: includes the API layer above it: ${_line}")
+    endif()
+    if(_f MATCHES "^(core|accel|lights|shading)/" AND _line MATCHES "[<\"]penumbra/" AND NOT _line MATCHES "penumbra/types\\.hpp")
+      list(APPEND _errors "${_f}: below api/ only <penumbra/types.hpp> may be included: ${_line}")
+    endif()
+    if(_f MATCHES "^api/include/penumbra/" AND _line MATCHES "\"")
       list(APPEND _errors "${_f}: public header includes a non-public header: ${_line}")
+    endif()
+    if(_f MATCHES "^api/include/penumbra/" AND _line MATCHES "<[^>]*/" AND NOT _line MATCHES "<penumbra/")
+      list(APPEND _errors "${_f}: public header includes a third-party header: ${_line}")
+    endif()
+    if(_f STREQUAL "api/include/penumbra/types.hpp" AND _line MATCHES "<penumbra/")
+      list(APPEND _errors "${_f}: the value types include only the standard library: ${_line}")
+    endif()
+    if(_f MATCHES "^apps/penumbra/" AND _line MATCHES "\"(core|accel|lights|shading|api)/")
+      list(APPEND _errors "${_f}: the CLI uses the public API only: ${_line}")
     endif()
   endforeach()
 endforeach()

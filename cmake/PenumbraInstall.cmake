@@ -9,11 +9,11 @@ include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 # The headers spell the version out for hosts (PENUMBRA_VERSION); keep it equal to project(VERSION).
-file(STRINGS ${PROJECT_SOURCE_DIR}/core/include/penumbra/version.h _penumbra_header_version
+file(STRINGS ${PROJECT_SOURCE_DIR}/api/include/penumbra/version.h _penumbra_header_version
      REGEX "^#define PENUMBRA_VERSION \"")
 string(REGEX REPLACE ".*\"([^\"]*)\".*" "\\1" _penumbra_header_version "${_penumbra_header_version}")
 if(NOT _penumbra_header_version STREQUAL PROJECT_VERSION)
-  message(FATAL_ERROR "core/include/penumbra/version.h says ${_penumbra_header_version}, "
+  message(FATAL_ERROR "api/include/penumbra/version.h says ${_penumbra_header_version}, "
                       "but the project version is ${PROJECT_VERSION}: update the header")
 endif()
 
@@ -29,9 +29,10 @@ install(TARGETS penumbra EXPORT PenumbraTargets
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 
 install(FILES
-  ${PROJECT_SOURCE_DIR}/core/include/penumbra/penumbra.h
-  ${PROJECT_SOURCE_DIR}/core/include/penumbra/penumbra.hpp
-  ${PROJECT_SOURCE_DIR}/core/include/penumbra/version.h
+  ${PROJECT_SOURCE_DIR}/api/include/penumbra/penumbra.h
+  ${PROJECT_SOURCE_DIR}/api/include/penumbra/penumbra.hpp
+  ${PROJECT_SOURCE_DIR}/api/include/penumbra/types.hpp
+  ${PROJECT_SOURCE_DIR}/api/include/penumbra/version.h
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/penumbra COMPONENT Development)
 
 install(EXPORT PenumbraTargets NAMESPACE penumbra:: FILE PenumbraTargets.cmake

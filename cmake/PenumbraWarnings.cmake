@@ -3,12 +3,16 @@ function(penumbra_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wno-missing-field-initializers)
 endfunction()
 
-# An object library of one module: its sources are every .cpp in the folder.
+# An object library of one module: its sources are every .cpp in the folder
+# (not its sub-folders).
 function(penumbra_module name)
   cmake_parse_arguments(ARG "" "" "DEPENDS" ${ARGN})
   file(GLOB _sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
   add_library(${name} OBJECT ${_sources})
-  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR} ${PROJECT_SOURCE_DIR}/core/include)
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR} ${PROJECT_SOURCE_DIR}/api/include)
   target_link_libraries(${name} PUBLIC ${ARG_DEPENDS})
+  # Hidden by default: only what the public headers mark PENUMBRA_API / PNB_API
+  # leaves libpenumbra.so (cmake/penumbra.map hides the rest, std templates included).
+  set_target_properties(${name} PROPERTIES CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
   penumbra_warnings(${name})
 endfunction()

@@ -2,6 +2,8 @@
 // renderer receive the Logger they should report to.
 #pragma once
 
+#include <penumbra/types.hpp>
+
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -9,7 +11,7 @@
 
 namespace penumbra {
 
-enum class LogLevel { Debug = 0, Info = 1, Warning = 2, Error = 3 };
+using LogLevel = pnb::LogLevel;  // api/include/penumbra/types.hpp
 
 class Logger {
 public:

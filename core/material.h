@@ -1,18 +1,15 @@
 // Phong material, as in the lecture notes (see docs/ and shading/phong.h for the BRDF).
 #pragma once
 
+#include <penumbra/types.hpp>
+
 #include <string>
 
 #include "core/color.h"
 
 namespace penumbra {
 
-enum class PhongModel {
-    /// f = kd/pi + ks (n+2)/(2 pi) cos^n(alpha): energy-conserving when kd + ks <= 1.
-    Normalized,
-    /// The lecture's empirical formula L = ka La + sum kd Lj (n.s) + ks Lj (v.r)^n.
-    Classic,
-};
+using PhongModel = pnb::PhongModel;  // api/include/penumbra/types.hpp
 
 struct Material {
     std::string name;

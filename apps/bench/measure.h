@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "accel/accelerator.h"
-#include "accel/raw_embree.h"
+#include "accel/bench/raw_embree.h"
 #include "core/camera.h"
 #include "core/render_settings.h"
 #include "shading/renderer.h"

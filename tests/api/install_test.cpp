@@ -115,7 +115,8 @@ TEST(Install, HostProjectsBuildAgainstTheInstalledPackage) {
     std::set<std::string> headers;
     for (const auto& e : fs::recursive_directory_iterator(prefix / "include"))
         if (e.is_regular_file()) headers.insert(fs::relative(e.path(), prefix / "include").string());
-    EXPECT_EQ(headers, (std::set<std::string>{"penumbra/penumbra.h", "penumbra/penumbra.hpp", "penumbra/version.h"}));
+    EXPECT_EQ(headers, (std::set<std::string>{"penumbra/penumbra.h", "penumbra/penumbra.hpp", "penumbra/types.hpp",
+                                              "penumbra/version.h"}));
     const std::vector<std::string> hppIncludes = includesOf(prefix / "include" / "penumbra" / "penumbra.hpp");
     EXPECT_NE(std::find(hppIncludes.begin(), hppIncludes.end(), "penumbra/version.h"), hppIncludes.end());
     EXPECT_NE(std::find(hppIncludes.begin(), hppIncludes.end(), "functional"), hppIncludes.end());
@@ -134,6 +135,34 @@ TEST(Install, HostProjectsBuildAgainstTheInstalledPackage) {
     ASSERT_FALSE(pc.empty());
     const fs::path libdir = pc.parent_path().parent_path();
     EXPECT_TRUE(fs::exists(libdir / "libpenumbra.so"));
+
+    // The installed command starts from its prefix (install RPATH $ORIGIN/../lib), without
+    // LD_LIBRARY_PATH, and renders the default scene exactly as the build tree's command does.
+    const fs::path installed = prefix / "bin" / "penumbra";
+    ASSERT_TRUE(fs::exists(installed));
+    const std::string cornell = shellQuoted(fs::path(PENUMBRA_SOURCE_DIR) / "assets/cornell/cornell.obj");
+    const std::string renderArgs = " -q --width 40 --height 30 --spp 2 -o ";
+    ASSERT_TRUE(run("env -u LD_LIBRARY_PATH " + shellQuoted(installed) + " " + cornell + renderArgs +
+                        shellQuoted(tmp / "installed.exr"),
+                    log))
+        << slurp(log);
+    ASSERT_TRUE(run(shellQuoted(fs::path(PENUMBRA_BINARY_DIR) / "bin" / "penumbra") + " " + cornell + renderArgs +
+                        shellQuoted(tmp / "built.exr"),
+                    log))
+        << slurp(log);
+    {
+        const penumbra::ImageData got = penumbra::readImage(tmp / "installed.exr");
+        const penumbra::ImageData want = penumbra::readImage(tmp / "built.exr");
+        ASSERT_EQ(got.width, 40);
+        ASSERT_EQ(got.height, 30);
+        double sum = 0;
+        for (float v : got.pixels) {
+            ASSERT_TRUE(std::isfinite(v));
+            sum += v;
+        }
+        EXPECT_GT(sum / double(got.pixels.size()), 0.01) << "the Cornell box is lit";
+        EXPECT_EQ(got.pixels, want.pixels) << "the installed command renders what the built one does";
+    }
 
     // find_package(Penumbra) from a separate project, strict C99 and C++17 with -Werror.
     const fs::path build = tmp / "external-build";

@@ -660,4 +660,78 @@ TEST_F(BadInput, OutOfMemoryIsACleanError) {
 #endif
 }
 
+// ------------------------------------------------------------------ outputs over inputs (issue 13, item 5)
+
+std::string slurpFile(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+TEST_F(BadOption, OutputsThatWouldOverwriteAnInputAreRefusedBeforeAnyWork) {
+    // A textured quad: tex.obj reads tex.mtl, which reads tex.png (a real image, rendered here).
+    ASSERT_EQ(runPenumbra(in("scene.obj") + " -q --width 4 --height 4 --spp 1 -o " + in("tex.png")).exitCode, 0);
+    write("tex.mtl", "newmtl t\nKd 1 1 1\nmap_Kd tex.png\n");
+    write("tex.obj", "mtllib tex.mtl\nusemtl t\n" + std::string(kQuad) + "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n");
+    write("lamp.json", R"({"materials": {"lamp": {"kd": 0, "ke": 1}},
+                           "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "lamp"}]})");
+    fs::create_hard_link(dir_ / "scene.obj", dir_ / "linked.json");
+    fs::create_symlink(dir_ / "tex.png", dir_ / "alias.png");
+    const std::string before[] = {slurpFile(dir_ / "scene.obj"), slurpFile(dir_ / "tex.png"),
+                                  slurpFile(dir_ / "tex.mtl"), slurpFile(dir_ / "lamp.json")};
+    const std::string quick = " -q --width 8 --height 8 --spp 1";
+
+    // --stats-json over the scene file, also through a hard link (same inode, another name).
+    expectCleanFailure(run(in("lamp.json") + quick + " --stats-json " + in("lamp.json") + out()),
+                       {"--stats-json", "lamp.json", "the scene file", "refusing to overwrite an input"});
+    expectCleanFailure(run(in("scene.obj") + quick + " --stats-json " + in("linked.json") + out()),
+                       {"--stats-json", "linked.json", "the scene file", "refusing to overwrite an input"});
+    // --stats-json over the -o image.
+    expectCleanFailure(run(in("scene.obj") + quick + " --stats-json " + shellQuote(outPath().string()) + out()),
+                       {"--stats-json", "img.exr", "-o"});
+    // -o over the scene's texture (directly and through a symlink), --stats-json over its MTL file.
+    expectCleanFailure(run(in("tex.obj") + quick + " -o " + in("tex.png")),
+                       {"-o", "tex.png", "a file the scene reads", "refusing to overwrite an input"});
+    expectCleanFailure(run(in("tex.obj") + quick + " -o " + in("alias.png")),
+                       {"-o", "alias.png", "a file the scene reads"});
+    expectCleanFailure(run(in("tex.obj") + quick + " --stats-json " + in("tex.mtl") + out()),
+                       {"--stats-json", "tex.mtl", "a file the scene reads"});
+    EXPECT_EQ(slurpFile(dir_ / "scene.obj"), before[0]);
+    EXPECT_EQ(slurpFile(dir_ / "tex.png"), before[1]);
+    EXPECT_EQ(slurpFile(dir_ / "tex.mtl"), before[2]);
+    EXPECT_EQ(slurpFile(dir_ / "lamp.json"), before[3]);
+    // Different files with the same name in other folders are fine.
+    fs::create_directories(dir_ / "other");
+    expectSuccess(run(in("tex.obj") + quick + " -o " + in("other/tex.png")));
+}
+
+TEST_F(BadOption, AFailedStatisticsWriteIsAnError) {
+    if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+    RunResult r = run(in("scene.obj") + " -q --width 8 --height 8 --spp 1 --stats-json /dev/full" + out());
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    auto errors = linesStartingWith(r.output, "penumbra: error: ");
+    ASSERT_EQ(errors.size(), 1u) << r.output;
+    EXPECT_NE(errors[0].find("/dev/full: cannot write statistics"), std::string::npos) << errors[0];
+}
+
+// ------------------------------------------------------------------ command-line values (issue 13, item 9)
+
+TEST_F(BadOption, AmbientAndBackgroundAreHeldToTheSceneFilesLimits) {
+    // The JSON loader refuses a radiance that is not finite as a 32-bit float; so does the command line.
+    write("hot.json", R"({"ambient": [1e39, 0, 0], "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}]})");
+    expectCleanFailure(run(in("hot.json") + out()), {"hot.json", "/ambient/0", "finite"});
+    expectRefused("--ambient 1e39,0,0", {"--ambient", "finite"});
+    expectRefused("--background 0,1e39,0", {"--background", "finite"});
+    expectRefused("--ambient -1,0,0", {"--ambient", ">= 0"});
+    // The largest finite values pass, on the command line as in a file.
+    expectSuccess(run(in("scene.obj") + " -q --width 4 --height 4 --spp 1 --ambient 3e38,0,0" + out()));
+}
+
+TEST_F(BadOption, SeedAboveTheLargestIsAUsageError) {
+    expectRefused("--seed 18446744073709551616", {"--seed", "18446744073709551615"}, 2);
+    expectRefused("--seed 99999999999999999999999", {"--seed", "above the largest seed"}, 2);
+    expectSuccess(run(in("scene.obj") + " -q --width 4 --height 4 --spp 1 --seed 18446744073709551615" + out()));
+}
+
 }  // namespace

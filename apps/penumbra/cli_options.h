@@ -5,9 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "core/camera.h"
-#include "core/color.h"
-#include "core/render_settings.h"
+#include <cstdint>
+#include <penumbra/penumbra.hpp>
 
 namespace penumbra::cli {
 
@@ -19,10 +18,10 @@ struct Options {
     std::optional<uint64_t> seed;
     std::string accel = "embree";
     std::string buildQuality = "high";
-    std::optional<Vec3f> eye, lookAt, up;
+    std::optional<pnb::Vec3> eye, lookAt, up;
     std::optional<float> fov, aperture, focusDistance;
-    std::optional<Rgb> ambient, background;
-    std::optional<CropWindow> crop;
+    std::optional<pnb::Color> ambient, background;  // checked by pnb::Scene when applied
+    std::optional<pnb::CropWindow> crop;
     std::optional<std::string> lightSelection;
     float exposure = 0.f;
     bool aovs = false;
@@ -39,9 +38,9 @@ struct ParseResult {
 };
 ParseResult parseCommandLine(int argc, char** argv);
 
-/// "x,y,z" -> Vec3f; throws Error(InvalidArgument) naming the option.
-Vec3f parseVec3(const std::string& text, const std::string& option);
+/// "x,y,z" -> Vec3; throws pnb::Error(InvalidArgument) naming the option.
+pnb::Vec3 parseVec3(const std::string& text, const std::string& option);
 /// "x0,y0,x1,y1" -> CropWindow.
-CropWindow parseCrop(const std::string& text);
+pnb::CropWindow parseCrop(const std::string& text);
 
 }  // namespace penumbra::cli

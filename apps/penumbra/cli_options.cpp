@@ -1,15 +1,19 @@
 #include "cli_options.h"
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <vector>
 
-#include "core/error.h"
 
 namespace penumbra::cli {
 namespace {
+
+using pnb::Error;
+using pnb::ErrorCode;
 
 std::vector<std::string> splitCommas(const std::string& s) {
     std::vector<std::string> parts;
@@ -35,14 +39,14 @@ double parseNumber(const std::string& text, const std::string& option) {
 
 }  // namespace
 
-Vec3f parseVec3(const std::string& text, const std::string& option) {
+pnb::Vec3 parseVec3(const std::string& text, const std::string& option) {
     auto parts = splitCommas(text);
     if (parts.size() != 3) throw Error(ErrorCode::InvalidArgument, option + ": expected x,y,z, got '" + text + "'");
     return {float(parseNumber(parts[0], option)), float(parseNumber(parts[1], option)),
             float(parseNumber(parts[2], option))};
 }
 
-CropWindow parseCrop(const std::string& text) {
+pnb::CropWindow parseCrop(const std::string& text) {
     auto parts = splitCommas(text);
     if (parts.size() != 4) throw Error(ErrorCode::InvalidArgument, "--crop: expected x0,y0,x1,y1, got '" + text + "'");
     int v[4];
@@ -53,6 +57,17 @@ CropWindow parseCrop(const std::string& text) {
         v[i] = int(d);
     }
     return {v[0], v[1], v[2], v[3]};
+}
+
+// "" when `v` is a seed: a decimal integer in [0, 2^64 - 1] (CLI11 would read
+// "-1" as 2^64 - 1 and clamp larger values to it).
+std::string seedProblem(const std::string& v) {
+    if (!v.empty() && v[0] == '-') return "must be >= 0";
+    if (v.empty() || v.find_first_not_of("0123456789") != std::string::npos) return "'" + v + "' is not an integer";
+    errno = 0;
+    (void)std::strtoull(v.c_str(), nullptr, 10);
+    if (errno == ERANGE) return "'" + v + "' is above the largest seed, 18446744073709551615";
+    return {};
 }
 
 ParseResult parseCommandLine(int argc, char** argv) {
@@ -71,11 +86,8 @@ ParseResult parseCommandLine(int argc, char** argv) {
     auto* oSpp = app.add_option("--spp", spp, "Camera samples per pixel (multi-jittered)");
     auto* oLs = app.add_option("--light-samples", lightSamples, "Area-light samples per light per shading point");
     auto* oDepth = app.add_option("--max-depth", maxDepth, "Maximum mirror bounces (0 = no reflection rays)");
-    // CLI11 would read "-1" into the unsigned seed as 2^64 - 1.
     auto* oSeed = app.add_option("--seed", seed, "Random seed")
-                      ->check(CLI::Validator(
-                          [](std::string& v) { return !v.empty() && v[0] == '-' ? std::string("must be >= 0") : std::string(); },
-                          "UINT64"));
+                      ->check(CLI::Validator([](std::string& v) { return seedProblem(v); }, "UINT64"));
     auto* oThreads = app.add_option("--threads", threads, "Render threads (0 = all cores)");
     auto* oTile = app.add_option("--tile-size", tileSize, "Tile size in pixels");
     app.add_option("--accel", o.accel, "Accelerator: embree or naive")->capture_default_str();
@@ -122,16 +134,14 @@ ParseResult parseCommandLine(int argc, char** argv) {
     if (!eye.empty()) o.eye = parseVec3(eye, "--eye");
     if (!lookAt.empty()) o.lookAt = parseVec3(lookAt, "--look-at");
     if (!up.empty()) o.up = parseVec3(up, "--up");
+    // Their limits (finite as 32-bit floats, >= 0) are the scene's: pnb::Scene checks them when they are applied.
     if (!ambient.empty()) {
-        Vec3f a = parseVec3(ambient, "--ambient");
-        if (a.x < 0 || a.y < 0 || a.z < 0) throw Error(ErrorCode::InvalidArgument, "--ambient: components must be >= 0");
-        o.ambient = Rgb{a.x, a.y, a.z};
+        const pnb::Vec3 a = parseVec3(ambient, "--ambient");
+        o.ambient = pnb::Color{a.x, a.y, a.z};
     }
     if (!background.empty()) {
-        Vec3f b = parseVec3(background, "--background");
-        if (b.x < 0 || b.y < 0 || b.z < 0)
-            throw Error(ErrorCode::InvalidArgument, "--background: components must be >= 0");
-        o.background = Rgb{b.x, b.y, b.z};
+        const pnb::Vec3 b = parseVec3(background, "--background");
+        o.background = pnb::Color{b.x, b.y, b.z};
     }
     if (!crop.empty()) o.crop = parseCrop(crop);
     if (!lightSelection.empty()) {

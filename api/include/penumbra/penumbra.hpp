@@ -1,4 +1,5 @@
-// Penumbra's C++ embedding API (namespace pnb). Only standard types cross it;
+// Penumbra's C++ embedding API (namespace pnb). Only standard types cross it
+// (the plain value types, shared with the library's inside, are in types.hpp);
 // Embree, TBB, OpenImageIO and the renderer's internal headers stay inside the
 // library. Usable from C++17 and later. See docs/embedding.md.
 //
@@ -9,6 +10,7 @@
 // renderers can work in one process at the same time.
 #pragma once
 
+#include <penumbra/types.hpp>
 #include <penumbra/version.h>
 
 #include <atomic>
@@ -23,10 +25,12 @@
 #include <string_view>
 #include <vector>
 
+#ifndef PENUMBRA_API
 #if defined(__GNUC__) || defined(__clang__)
 #define PENUMBRA_API __attribute__((visibility("default")))
 #else
 #define PENUMBRA_API
+#endif
 #endif
 
 namespace pnb {
@@ -39,42 +43,7 @@ struct Access;  // the library's way to the hidden implementations
 /// version of the headers a host was compiled with.
 PENUMBRA_API const char* version() noexcept;
 
-// ---------------------------------------------------------------- errors
-
-/// What went wrong; the values equal the C API's pnb_status codes.
-enum class ErrorCode {
-    InvalidArgument = 1,  ///< bad argument, setting or handle
-    FileNotFound = 2,
-    ParseError = 3,       ///< malformed OBJ/MTL/JSON content
-    InvalidScene = 4,     ///< scene content that cannot be rendered
-    IoError = 5,          ///< reading or writing failed
-    OutOfMemory = 6,
-    Cancelled = 7,        ///< the host cancelled the render
-    Embree = 8,           ///< the ray-tracing kernel reported an error
-    Internal = 9,         ///< a bug, or an exception from a host callback
-};
-
-/// Short English name of a code ("invalid argument", ...).
-PENUMBRA_API const char* errorCodeName(ErrorCode code) noexcept;
-
-/// The one exception type the API throws. what() names the file and line or
-/// JSON path where that applies ("scene.json: /shapes/3/radius: must be > 0").
-class PENUMBRA_API Error : public std::runtime_error {
-public:
-    Error(ErrorCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
-    Error(const Error&) = default;
-    Error& operator=(const Error&) = default;
-    ~Error() override;
-    /// The kind of failure.
-    ErrorCode code() const noexcept { return code_; }
-
-private:
-    ErrorCode code_;
-};
-
 // ---------------------------------------------------------------- logging
-
-enum class LogLevel { Debug = 0, Info = 1, Warning = 2, Error = 3 };
 
 /// Receives the library's messages (loader warnings, scene repairs, ...).
 /// May be called from render threads; never concurrently for one render.
@@ -104,13 +73,6 @@ struct Matrix3x4 {
     PENUMBRA_API static Matrix3x4 rotate(float degrees, const Vec3& axis);
     /// this * other: `other` applies first.
     PENUMBRA_API Matrix3x4 operator*(const Matrix3x4& other) const;
-};
-
-enum class PhongModel {
-    /// f = kd/pi + ks (n+2)/(2 pi) cos^n: energy-conserving when kd + ks <= 1.
-    Normalized,
-    /// The lecture's empirical L = ka La + sum kd Lj (n.l) + ks Lj (v.r)^n.
-    Classic,
 };
 
 /// Phong material (docs/rendering.md). Coefficients are linear RGB in [0, inf).
@@ -153,32 +115,6 @@ struct Camera {
     float focusDistance = 0.f;  ///< 0 = distance from eye to lookAt
 };
 
-/// Pixel window [x0, x1) x [y0, y1) of the full frame.
-struct CropWindow {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-};
-
-enum class LightSelection {
-    All,    ///< every light gets lightSamples samples at every shading point
-    Power,  ///< lightSamples samples in total, lights picked in proportion to power
-};
-
-/// What to render. The same scene, camera and settings give a bit-identical
-/// image for any thread count, tile size and split into passes.
-struct RenderSettings {
-    int width = 512;
-    int height = 512;
-    int spp = 16;           ///< camera samples per pixel
-    int lightSamples = 4;   ///< area-light samples per light per shading point
-    int maxDepth = 10;      ///< mirror bounces; 0 = no reflection rays
-    std::uint64_t seed = 0;
-    int threads = 0;        ///< 0 = all cores; each render runs in its own TBB arena
-    int tileSize = 16;
-    std::optional<CropWindow> crop;
-    LightSelection lightSelection = LightSelection::All;
-    bool aovs = false;      ///< also accumulate albedo, normal and depth of the first hit
-};
-
 /// Throws Error(InvalidArgument) naming the offending setting.
 PENUMBRA_API void validate(const RenderSettings& settings);
 /// Throws Error(InvalidArgument) naming the problem (eye == lookAt, bad fov, ...).
@@ -194,6 +130,11 @@ struct LoadOptions {
     bool restrictPaths = true;
     /// Further folders files may be read from (only used with restrictPaths).
     std::vector<std::string> allowedRoots;
+    /// With restrictPaths off: called with each file the loader reads (the
+    /// scene file, MTL files, meshes, textures; absolute, symlinks resolved)
+    /// and whether it lies outside the scene file's folder and allowedRoots.
+    /// Lets a host warn about outside reads, or refuse to write over an input.
+    std::function<void(const std::string& path, bool outside)> onRead;
 };
 
 // ---------------------------------------------------------------- scene
@@ -265,8 +206,6 @@ private:
 
 // ---------------------------------------------------------------- prepared scene
 
-enum class BuildQuality { Low, Medium, High };
-
 struct PrepareOptions {
     std::string accelerator = "embree";  ///< "embree" or "naive" (the O(N) reference)
     BuildQuality quality = BuildQuality::High;
@@ -296,6 +235,8 @@ public:
     std::size_t droppedTriangles() const;
     std::size_t droppedShapes() const;
     double buildSeconds() const;
+    /// Name of the accelerator built ("embree" or "naive").
+    std::string accelerator() const;
     /// What the source Scene said (see Scene::camera, defaultCamera, settings).
     std::optional<Camera> camera() const;
     Camera defaultCamera(float aspect, float vfovDegrees = 40.f) const;
@@ -327,6 +268,8 @@ public:
     /// Error(InvalidArgument) for bad settings and Error(OutOfMemory) when it
     /// would need more than half the machine's memory.
     explicit Framebuffer(const RenderSettings& settings);
+    /// Bytes a framebuffer for `settings` holds (its window, with AOVs if asked for).
+    static std::uint64_t bytesNeeded(const RenderSettings& settings);
     ~Framebuffer();
     Framebuffer(const Framebuffer&);
     Framebuffer& operator=(const Framebuffer&);
@@ -376,6 +319,11 @@ private:
     friend struct detail::Access;
 };
 
+/// Checks, without writing anything, that Framebuffer::writeImage could write
+/// `path`: a known image format, an existing and writable folder, no
+/// directory in the way. Throws Error(InvalidArgument / IoError) naming the file.
+PENUMBRA_API void checkImagePath(const std::string& path);
+
 // ---------------------------------------------------------------- rendering
 
 /// Counts and timings of one render call (or of all passes of a job).
@@ -395,6 +343,8 @@ struct RenderControl {
     /// gives exactly 1. Runs on a render thread, never concurrently with itself;
     /// keep it short.
     std::function<void(double fraction)> progress;
+    /// The same moments counted in tiles: (tiles done, tiles in this call).
+    std::function<void(std::size_t tilesDone, std::size_t tilesTotal)> tileProgress;
     /// When set and it becomes true, the render stops after the tile rows in
     /// flight (well under a second) and the call throws Error(Cancelled).
     const std::atomic<bool>* cancel = nullptr;

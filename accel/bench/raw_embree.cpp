@@ -1,7 +1,7 @@
 // The raw Embree ceiling (see raw_embree.h): deliberately the least code that
 // can answer a ray with Embree, so the benchmark's renderer/raw ratio measures
 // the renderer's own overhead and nothing of this harness.
-#include "accel/raw_embree.h"
+#include "accel/bench/raw_embree.h"
 
 #include "accel/embree_packets.h"
 

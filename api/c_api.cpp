@@ -1,0 +1,300 @@
+// The C API (api/include/penumbra/penumbra.h) as a thin layer over the C++
+// API: handles own C++ objects, and every entry point catches everything, so
+// no exception crosses into C. Value conversions: api/c_api_types.cpp.
+#include "api/c_api_internal.h"
+
+using namespace pnb::c_api;
+
+extern "C" {
+
+const char* pnb_status_name(pnb_status status) {
+    if (status == PNB_OK) return "ok";
+    if (status < PNB_ERROR_INVALID_ARGUMENT || status > PNB_ERROR_INTERNAL) return "unknown status";
+    return pnb::errorCodeName(static_cast<pnb::ErrorCode>(static_cast<int>(status)));
+}
+
+const char* pnb_last_error(void) { return lastErrorSlot().c_str(); }
+const char* pnb_version(void) { return pnb::version(); }
+
+// ---------------------------------------------------------------- renderer
+
+pnb_status pnb_renderer_create(pnb_renderer** out) {
+    if (out) *out = nullptr;
+    return guard(nullptr, "pnb_renderer_create", [&] {
+        need(out, "out");
+        *out = new pnb_renderer();
+    });
+}
+
+void pnb_renderer_destroy(pnb_renderer* renderer) { destroy(renderer); }
+
+pnb_status pnb_renderer_set_log(pnb_renderer* renderer, pnb_log_fn fn, void* user, pnb_log_level min_level) {
+    return guard(renderer ? &renderer->error : nullptr, "pnb_renderer_set_log", [&] {
+        need(renderer, "renderer");
+        const int raw = rawEnum(min_level);
+        if (raw < PNB_LOG_DEBUG || raw > PNB_LOG_ERROR)
+            throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                             "min_level " + std::to_string(raw) + " is not a pnb_log_level");
+        const auto level = static_cast<pnb::LogLevel>(raw);
+        if (!fn) {
+            renderer->renderer.setLog({}, level);
+            return;
+        }
+        renderer->renderer.setLog(
+            [fn, user](pnb::LogLevel l, std::string_view m) {
+                const std::string text(m);
+                fn(static_cast<pnb_log_level>(static_cast<int>(l)), text.c_str(), user);
+            },
+            level);
+    });
+}
+
+const char* pnb_renderer_last_error(const pnb_renderer* renderer) { return renderer ? renderer->error.c_str() : ""; }
+
+// ---------------------------------------------------------------- scene
+
+pnb_status pnb_scene_create(pnb_scene** out) {
+    if (out) *out = nullptr;
+    return guard(nullptr, "pnb_scene_create", [&] {
+        need(out, "out");
+        *out = new pnb_scene();
+    });
+}
+
+pnb_status pnb_scene_load(pnb_renderer* renderer, const char* path, const pnb_load_options* options, pnb_scene** out) {
+    if (out) *out = nullptr;
+    return guard(renderer ? &renderer->error : nullptr, "pnb_scene_load", [&] {
+        need(renderer, "renderer");
+        need(path, "path");
+        need(out, "out");
+        pnb::LoadOptions lo;
+        if (options) {
+            lo.strict = options->strict != 0;
+            lo.restrictPaths = options->restrict_paths != 0;
+            if (options->allowed_root_count > 0) need(options->allowed_roots, "options->allowed_roots");
+            for (size_t i = 0; i < options->allowed_root_count; ++i) {
+                need(options->allowed_roots[i], "an allowed root");
+                lo.allowedRoots.emplace_back(options->allowed_roots[i]);
+            }
+        }
+        auto scene = std::make_unique<pnb_scene>();
+        scene->scene = renderer->renderer.loadScene(path, lo);
+        *out = scene.release();
+    });
+}
+
+pnb_status pnb_scene_clone(const pnb_scene* scene, pnb_scene** out) {
+    if (out) *out = nullptr;
+    return guard(nullptr, "pnb_scene_clone", [&] {
+        need(scene, "scene");
+        need(out, "out");
+        auto copy = std::make_unique<pnb_scene>();
+        copy->scene = scene->scene;
+        *out = copy.release();
+    });
+}
+
+void pnb_scene_destroy(pnb_scene* scene) { destroy(scene); }
+const char* pnb_scene_last_error(const pnb_scene* scene) { return scene ? scene->error.c_str() : ""; }
+
+pnb_status pnb_scene_add_material(pnb_scene* scene, const pnb_material* material, uint32_t* out_id) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_material", [&] {
+        need(scene, "scene");
+        need(material, "material");
+        pnb::Material m;
+        if (material->name) m.name = material->name;
+        m.ka = in(material->ka);
+        m.kd = in(material->kd);
+        m.ks = in(material->ks);
+        m.exponent = material->exponent;
+        m.kr = in(material->kr);
+        m.ke = in(material->ke);
+        m.twoSidedEmission = material->two_sided_emission != 0;
+        const int model = rawEnum(material->model);
+        if (model != PNB_PHONG_NORMALIZED && model != PNB_PHONG_CLASSIC)
+            throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                             "material model " + std::to_string(model) + " is not a pnb_phong_model");
+        m.model = model == PNB_PHONG_CLASSIC ? pnb::PhongModel::Classic : pnb::PhongModel::Normalized;
+        if (material->diffuse_texture) m.diffuseTexture = material->diffuse_texture;
+        const pnb::MaterialId id = scene->scene.addMaterial(m);
+        if (out_id) *out_id = id;
+    });
+}
+
+pnb_status pnb_scene_add_sphere(pnb_scene* scene, pnb_vec3 center, float radius, uint32_t material) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_sphere", [&] {
+        need(scene, "scene");
+        scene->scene.addSphere(in(center), radius, material);
+    });
+}
+
+pnb_status pnb_scene_add_plane(pnb_scene* scene, pnb_vec3 point, pnb_vec3 normal, int two_sided, uint32_t material) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_plane", [&] {
+        need(scene, "scene");
+        scene->scene.addPlane(in(point), in(normal), material, two_sided != 0);
+    });
+}
+
+pnb_status pnb_scene_add_box(pnb_scene* scene, pnb_vec3 lo, pnb_vec3 hi, const float* world_from_object,
+                             uint32_t material) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_box", [&] {
+        need(scene, "scene");
+        pnb::Matrix3x4 m;
+        if (world_from_object)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 4; ++c) m.m[r][c] = world_from_object[4 * r + c];
+        scene->scene.addBox(in(lo), in(hi), m, material);
+    });
+}
+
+pnb_status pnb_scene_add_rectangle(pnb_scene* scene, pnb_vec3 corner, pnb_vec3 edge_a, pnb_vec3 edge_b,
+                                   uint32_t material) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_rectangle", [&] {
+        need(scene, "scene");
+        scene->scene.addRectangle(in(corner), in(edge_a), in(edge_b), material);
+    });
+}
+
+pnb_status pnb_scene_add_disk(pnb_scene* scene, pnb_vec3 center, pnb_vec3 normal, float radius, uint32_t material) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_disk", [&] {
+        need(scene, "scene");
+        scene->scene.addDisk(in(center), in(normal), radius, material);
+    });
+}
+
+pnb_status pnb_scene_add_mesh(pnb_scene* scene, const pnb_mesh_desc* mesh) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_mesh", [&] {
+        need(scene, "scene");
+        need(mesh, "mesh");
+        pnb::MeshDesc d;
+        if (mesh->name) d.name = mesh->name;
+        d.positions = mesh->positions;
+        d.vertexCount = mesh->vertex_count;
+        d.indices = mesh->indices;
+        d.triangleCount = mesh->triangle_count;
+        d.normals = mesh->normals;
+        d.uvs = mesh->uvs;
+        d.faceMaterials = mesh->face_materials;
+        d.material = mesh->material;
+        scene->scene.addMesh(d);
+    });
+}
+
+pnb_status pnb_scene_add_point_light(pnb_scene* scene, pnb_vec3 position, pnb_color intensity) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_point_light", [&] {
+        need(scene, "scene");
+        scene->scene.addPointLight(in(position), in(intensity));
+    });
+}
+
+pnb_status pnb_scene_add_directional_light(pnb_scene* scene, pnb_vec3 direction, pnb_color irradiance) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_directional_light", [&] {
+        need(scene, "scene");
+        scene->scene.addDirectionalLight(in(direction), in(irradiance));
+    });
+}
+
+pnb_status pnb_scene_set_ambient(pnb_scene* scene, pnb_color ambient) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_set_ambient", [&] {
+        need(scene, "scene");
+        scene->scene.setAmbient(in(ambient));
+    });
+}
+
+pnb_status pnb_scene_set_background(pnb_scene* scene, pnb_color background) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_set_background", [&] {
+        need(scene, "scene");
+        scene->scene.setBackground(in(background));
+    });
+}
+
+pnb_status pnb_scene_set_camera(pnb_scene* scene, const pnb_camera* camera) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_set_camera", [&] {
+        need(scene, "scene");
+        need(camera, "camera");
+        scene->scene.setCamera(in(*camera));
+    });
+}
+
+pnb_status pnb_scene_get_camera(const pnb_scene* scene, pnb_camera* out, int* has_camera) {
+    return guard(nullptr, "pnb_scene_get_camera", [&] {
+        need(scene, "scene");
+        need(out, "out");
+        const std::optional<pnb::Camera> c = scene->scene.camera();
+        if (c) *out = ::out(*c);
+        if (has_camera) *has_camera = c ? 1 : 0;
+    });
+}
+
+pnb_status pnb_scene_default_camera(const pnb_scene* scene, float aspect, float vfov_degrees, pnb_camera* out) {
+    return guard(nullptr, "pnb_scene_default_camera", [&] {
+        need(scene, "scene");
+        need(out, "out");
+        *out = ::out(scene->scene.defaultCamera(aspect, vfov_degrees));
+    });
+}
+
+pnb_status pnb_scene_get_settings(const pnb_scene* scene, pnb_render_settings* out) {
+    return guard(nullptr, "pnb_scene_get_settings", [&] {
+        need(scene, "scene");
+        need(out, "out");
+        *out = ::out(scene->scene.settings());
+    });
+}
+
+size_t pnb_scene_primitive_count(const pnb_scene* scene) { return scene ? scene->scene.primitiveCount() : 0; }
+
+// ---------------------------------------------------------------- prepared scene
+
+pnb_status pnb_prepare(pnb_renderer* renderer, const pnb_scene* scene, const pnb_prepare_options* options,
+                       pnb_prepared_scene** out) {
+    if (out) *out = nullptr;
+    return guard(renderer ? &renderer->error : nullptr, "pnb_prepare", [&] {
+        need(renderer, "renderer");
+        need(scene, "scene");
+        need(out, "out");
+        pnb::PrepareOptions po;
+        if (options) {
+            if (options->accelerator) po.accelerator = options->accelerator;
+            const int quality = rawEnum(options->quality);
+            if (quality < PNB_BUILD_LOW || quality > PNB_BUILD_HIGH)
+                throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                                 "build quality " + std::to_string(quality) + " is not a pnb_build_quality");
+            po.quality = static_cast<pnb::BuildQuality>(quality);
+        }
+        auto prepared = std::make_unique<pnb_prepared_scene>();
+        prepared->prepared = renderer->renderer.prepare(scene->scene, po);
+        *out = prepared.release();
+    });
+}
+
+void pnb_prepared_scene_destroy(pnb_prepared_scene* prepared) { destroy(prepared); }
+
+pnb_status pnb_prepared_scene_get_info(const pnb_prepared_scene* prepared, pnb_prepared_info* out) {
+    return guard(nullptr, "pnb_prepared_scene_get_info", [&] {
+        need(prepared, "prepared scene");
+        need(out, "out");
+        const pnb::PreparedScene& p = prepared->prepared;
+        *out = pnb_prepared_info{p.primitiveCount(),   p.triangleCount(), p.lightCount(),
+                                 p.droppedTriangles(), p.droppedShapes(), p.buildSeconds()};
+    });
+}
+
+pnb_status pnb_prepared_scene_default_camera(const pnb_prepared_scene* prepared, float aspect, float vfov_degrees,
+                                             pnb_camera* out) {
+    return guard(nullptr, "pnb_prepared_scene_default_camera", [&] {
+        need(prepared, "prepared scene");
+        need(out, "out");
+        *out = ::out(prepared->prepared.defaultCamera(aspect, vfov_degrees));
+    });
+}
+
+pnb_status pnb_prepared_scene_get_settings(const pnb_prepared_scene* prepared, pnb_render_settings* out) {
+    return guard(nullptr, "pnb_prepared_scene_get_settings", [&] {
+        need(prepared, "prepared scene");
+        need(out, "out");
+        *out = ::out(prepared->prepared.settings());
+    });
+}
+
+}  // extern "C"

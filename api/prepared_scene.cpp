@@ -1,0 +1,130 @@
+// pnb::PreparedScene, and the Renderer's entry points that make one:
+// logging, loading a scene file, preparing.
+#include "api/api_internal.h"
+
+#include <filesystem>
+
+#include "core/scene_loader.h"
+
+namespace pnb {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------- PreparedScene
+
+PreparedScene::PreparedScene() = default;
+PreparedScene::~PreparedScene() = default;
+PreparedScene::PreparedScene(const PreparedScene&) = default;
+PreparedScene& PreparedScene::operator=(const PreparedScene&) = default;
+PreparedScene::PreparedScene(PreparedScene&&) noexcept = default;
+PreparedScene& PreparedScene::operator=(PreparedScene&&) noexcept = default;
+
+bool PreparedScene::valid() const noexcept { return impl_ != nullptr; }
+std::size_t PreparedScene::primitiveCount() const { return requirePrepared(*this).prepared.scene().primitiveCount(); }
+std::size_t PreparedScene::triangleCount() const { return requirePrepared(*this).prepared.scene().triangleCount(); }
+std::size_t PreparedScene::lightCount() const { return requirePrepared(*this).prepared.lights().size(); }
+std::size_t PreparedScene::droppedTriangles() const {
+    return requirePrepared(*this).prepared.fixups().droppedTriangles;
+}
+std::size_t PreparedScene::droppedShapes() const { return requirePrepared(*this).prepared.fixups().droppedShapes; }
+double PreparedScene::buildSeconds() const { return requirePrepared(*this).prepared.buildSeconds(); }
+std::string PreparedScene::accelerator() const { return requirePrepared(*this).prepared.accelerator().name(); }
+
+std::optional<Camera> PreparedScene::camera() const {
+    const Impl& p = requirePrepared(*this);
+    if (!p.camera) return std::nullopt;
+    return out(*p.camera);
+}
+
+Camera PreparedScene::defaultCamera(float aspect, float vfovDegrees) const {
+    const Impl& p = requirePrepared(*this);
+    return guarded([&] { return defaultCameraFor(p.camera, p.prepared.scene().bounds(), aspect, vfovDegrees); });
+}
+
+RenderSettings PreparedScene::settings() const { return settingsFrom(requirePrepared(*this).settings); }
+
+// ---------------------------------------------------------------- Renderer
+
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
+Renderer::Renderer(LogCallback log, LogLevel minLevel) : impl_(std::make_unique<Impl>()) {
+    setLog(std::move(log), minLevel);
+}
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&& o) noexcept : impl_(std::move(o.impl_)) {
+    o.impl_ = std::unique_ptr<Impl>(new (std::nothrow) Impl());
+}
+Renderer& Renderer::operator=(Renderer&& o) noexcept {
+    std::swap(impl_, o.impl_);
+    return *this;
+}
+
+void Renderer::setLog(LogCallback log, LogLevel minLevel) {
+    if (log) {
+        impl_->log = pn::Logger(std::move(log), minLevel);
+    } else {
+        impl_->log = pn::Logger();
+        impl_->log.setMinLevel(minLevel);
+    }
+}
+
+Scene Renderer::loadScene(const std::string& path, const LoadOptions& options) const {
+    return guarded([&] {
+        require(!path.empty(), "scene path is empty");
+        pn::LoadOptions lo;
+        lo.strict = options.strict;
+        // The scene's own folder, so its MTL files, textures and meshes stay readable.
+        std::vector<fs::path> roots{fs::absolute(fs::path(path)).parent_path()};
+        for (const std::string& root : options.allowedRoots) {
+            require(!root.empty(), "allowed root is empty");
+            roots.push_back(fs::absolute(fs::path(root)));
+        }
+        if (options.restrictPaths) {
+            lo.allowedRoots = roots;
+        } else if (options.onRead) {
+            // Unrestricted loading reports the files read outside its notice
+            // roots; a root below which nothing lies makes that every file.
+            // Whether a file is outside the real roots is then the same
+            // path rule, asked of checkPathAllowed.
+            lo.noticeRoots = {fs::path("/") / ".penumbra: report every file read"};
+            pn::LoadOptions restricted;
+            restricted.allowedRoots = roots;
+            lo.onReadOutside = [&options, restricted](const fs::path& f) {
+                bool outside = false;
+                try {
+                    pn::checkPathAllowed(f, restricted);
+                } catch (const Error&) {
+                    outside = true;
+                }
+                options.onRead(f.string(), outside);
+            };
+        }
+        pn::LoadedScene loaded = pn::loadScene(path, lo, impl_->log);
+        Scene scene;
+        SceneImpl& s = Access::of(scene);
+        s.scene = std::move(loaded.scene);
+        s.camera = loaded.camera;
+        s.settings = loaded.settings;
+        return scene;
+    });
+}
+
+PreparedScene Renderer::prepare(const Scene& scene, const PrepareOptions& options) const {
+    return prepare(Scene(scene), options);
+}
+
+PreparedScene Renderer::prepare(Scene&& scene, const PrepareOptions& options) const {
+    return guarded([&] {
+        SceneImpl& s = Access::of(scene);
+        pn::PrepareOptions po;
+        po.accelerator = options.accelerator;
+        po.quality = options.quality;
+        auto impl =
+            std::make_shared<const PreparedImpl>(std::move(s.scene), po, impl_->log, s.camera, s.settings);
+        s = SceneImpl{};  // the moved-from scene is empty, not half-moved
+        PreparedScene p;
+        Access::set(p, std::move(impl));
+        return p;
+    });
+}
+
+}  // namespace pnb

@@ -1,0 +1,230 @@
+// Rendering through the API: whole images, progressive passes, and
+// asynchronous jobs (pnb::RenderJob).
+#include "api/api_internal.h"
+
+#include <algorithm>
+
+namespace pnb {
+
+namespace {
+
+// Checks a pass against its framebuffer before anything is written, so a
+// rejected call leaves the framebuffer untouched.
+void checkPass(const RenderSettings& s, const FramebufferImpl& fb, uint32_t first, uint32_t count) {
+    const pn::Film& f = fb.film;
+    require(f.fullWidth() > 0, "the framebuffer is empty (create it from the render settings)");
+    require(!fb.incomplete, "the framebuffer holds a cancelled or failed pass; clear() it first");
+    const CropWindow w = windowOf(s);
+    require(f.fullWidth() == s.width && f.fullHeight() == s.height && f.window() == w,
+            "the framebuffer (" + std::to_string(f.fullWidth()) + "x" + std::to_string(f.fullHeight()) + ", window " +
+                std::to_string(f.window().x0) + "," + std::to_string(f.window().y0) + "," +
+                std::to_string(f.window().x1) + "," + std::to_string(f.window().y1) +
+                ") does not match the render settings (" + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                ", window " + std::to_string(w.x0) + "," + std::to_string(w.y0) + "," + std::to_string(w.x1) + "," +
+                std::to_string(w.y1) + ")");
+    require(uint64_t(first) + count <= uint64_t(s.spp), "samples [" + std::to_string(first) + ", " +
+                                                            std::to_string(uint64_t(first) + count) +
+                                                            ") exceed spp = " + std::to_string(s.spp));
+    require(f.sampleCount() == first, "the framebuffer holds " + std::to_string(f.sampleCount()) +
+                                          " samples per pixel; the pass must start there, not at " +
+                                          std::to_string(first));
+}
+
+// One checked pass; `progress` receives the fraction of this pass, `tiles` the same in tiles.
+RenderStats runPass(const PreparedImpl& p, const pn::CameraDesc& camera, const RenderSettings& s,
+                    FramebufferImpl& fb, uint32_t first, uint32_t count, const std::function<void(double)>& progress,
+                    const std::atomic<bool>* cancel, const std::function<void(size_t, size_t)>& tiles = {}) {
+    checkPass(s, fb, first, count);
+    pn::RenderControl control;
+    control.cancel = cancel;
+    if (progress || tiles)
+        control.progress = [&](size_t done, size_t total) {
+            if (tiles) tiles(done, total);
+            if (progress) progress(double(done) / double(total));
+        };
+    fb.incomplete = true;  // until the pass completes
+    const pn::RenderStats st = pn::renderPass(p.prepared, camera, s, fb.film, first, count, control);
+    if (st.cancelled)
+        fail(ErrorCode::Cancelled, "render cancelled after " + std::to_string(fb.film.sampleCount()) +
+                                       " complete samples per pixel; the framebuffer holds a partial pass");
+    fb.incomplete = false;
+    fb.seed = s.seed;
+    fb.renderSeconds += st.renderSeconds;
+    return out(st);
+}
+
+void checkCameraAndSettings(const Camera& camera, const RenderSettings& s) {
+    pn::validateSettings(s);
+    pn::validateCamera(in(camera));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- RenderJob
+
+RenderJob::RenderJob() = default;
+RenderJob::~RenderJob() = default;
+RenderJob::RenderJob(RenderJob&&) noexcept = default;
+RenderJob& RenderJob::operator=(RenderJob&&) noexcept = default;
+
+double RenderJob::progress() const noexcept { return impl_ ? impl_->state->progress.load() : 0.0; }
+void RenderJob::cancel() noexcept {
+    if (impl_) impl_->state->cancel.store(true);
+}
+bool RenderJob::done() const noexcept { return !impl_ || impl_->state->done.load(); }
+
+void RenderJob::wait() const {
+    if (!impl_) return;
+    JobState& s = *impl_->state;
+    std::unique_lock<std::mutex> lock(s.mutex);
+    s.finished.wait(lock, [&] { return s.done.load(); });
+}
+
+bool RenderJob::waitFor(std::chrono::milliseconds timeout) const {
+    if (!impl_) return true;
+    JobState& s = *impl_->state;
+    std::unique_lock<std::mutex> lock(s.mutex);
+    return s.finished.wait_for(lock, timeout, [&] { return s.done.load(); });
+}
+
+JobStatus RenderJob::status() const noexcept { return impl_ ? impl_->state->status.load() : JobStatus::Failed; }
+
+std::optional<Error> RenderJob::error() const {
+    if (!impl_) return Error(ErrorCode::InvalidArgument, "empty render job");
+    wait();
+    return impl_->state->error;
+}
+
+RenderStats RenderJob::stats() const {
+    if (!impl_) return {};
+    wait();
+    return impl_->state->stats;
+}
+
+const Framebuffer& RenderJob::framebuffer() const {
+    require(impl_ != nullptr, "empty render job");
+    wait();
+    const JobState& s = *impl_->state;
+    if (s.error) throw *s.error;
+    return s.image;
+}
+
+Framebuffer RenderJob::takeFramebuffer() {
+    framebuffer();  // waits, throws the job's error
+    return std::move(impl_->state->image);
+}
+
+// ---------------------------------------------------------------- Renderer: rendering
+
+Framebuffer Renderer::render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
+                             const RenderControl& control) const {
+    Framebuffer image(settings);
+    render(scene, camera, settings, image, control);
+    return image;
+}
+
+RenderStats Renderer::render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
+                             Framebuffer& image, const RenderControl& control) const {
+    return guarded([&] {
+        pn::validateSettings(settings);
+        const uint32_t have = image.sampleCount();
+        require(have <= uint32_t(settings.spp),
+                "the framebuffer already holds " + std::to_string(have) + " samples per pixel, spp is " +
+                    std::to_string(settings.spp));
+        return renderPass(scene, camera, settings, image, have, uint32_t(settings.spp) - have, control);
+    });
+}
+
+RenderStats Renderer::render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
+                             float* rgba, std::size_t floatCount, const RenderControl& control) const {
+    return guarded([&] {
+        const RenderSettings& s = settings;
+        pn::validateSettings(s);
+        const CropWindow w = windowOf(s);
+        const size_t needed = 4 * size_t(w.x1 - w.x0) * size_t(w.y1 - w.y0);
+        require(rgba != nullptr, "render: destination is null");
+        require(floatCount >= needed, "render: destination holds " + std::to_string(floatCount) +
+                                          " floats, the image needs " + std::to_string(needed));
+        Framebuffer image(settings);
+        RenderStats st = render(scene, camera, settings, image, control);
+        image.readRgba(rgba, floatCount);
+        return st;
+    });
+}
+
+RenderStats Renderer::renderPass(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
+                                 Framebuffer& image, std::uint32_t firstSample, std::uint32_t sampleCount,
+                                 const RenderControl& control) const {
+    return guarded([&] {
+        const PreparedImpl& p = requirePrepared(scene);
+        const RenderSettings& s = settings;
+        checkCameraAndSettings(camera, s);
+        return runPass(p, in(camera), s, Access::of(image), firstSample, sampleCount, control.progress,
+                       control.cancel, control.tileProgress);
+    });
+}
+
+RenderJob Renderer::renderAsync(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
+                                AsyncOptions options) const {
+    return guarded([&] {
+        requirePrepared(scene);
+        const RenderSettings& s = settings;
+        checkCameraAndSettings(camera, s);
+        auto state = std::make_shared<JobState>();
+        state->image = Framebuffer(settings);
+
+        auto work = [state, scene, cam = in(camera), s, opts = std::move(options)]() {
+            JobResult result;
+            const uint32_t spp = uint32_t(s.spp);
+            const uint32_t step = opts.passSamples > 0 ? std::min(opts.passSamples, spp) : spp;
+            try {
+                guarded([&] {
+                    const PreparedImpl& p = *Access::of(scene);
+                    FramebufferImpl& fb = Access::of(state->image);
+                    for (uint32_t first = 0; first < spp; first += step) {
+                        if (state->cancel.load())
+                            fail(ErrorCode::Cancelled, "render cancelled after " + std::to_string(first) +
+                                                           " samples per pixel");
+                        const uint32_t count = std::min(step, spp - first);
+                        auto progress = [&](double f) {
+                            const double done = (double(first) + f * double(count)) / double(spp);
+                            state->progress.store(done);
+                            if (opts.progress) opts.progress(done);
+                        };
+                        accumulate(result.stats, runPass(p, cam, s, fb, first, count, progress, &state->cancel));
+                        if (opts.onPass) opts.onPass(state->image, first + count);
+                    }
+                });
+                result.status = JobStatus::Finished;
+                state->progress.store(1.0);
+            } catch (const Error& e) {
+                result.status = e.code() == ErrorCode::Cancelled ? JobStatus::Cancelled : JobStatus::Failed;
+                result.error = e;
+            }
+            result.framebuffer = result.status == JobStatus::Finished ? &state->image : nullptr;
+            if (opts.onComplete) {
+                try {
+                    opts.onComplete(result);
+                } catch (...) {
+                    // A throwing completion callback must not take the process down
+                    // (std::terminate on this thread); the job's outcome stands.
+                }
+            }
+            std::lock_guard<std::mutex> lock(state->mutex);
+            state->error = result.error;
+            state->stats = result.stats;
+            state->status.store(result.status);
+            state->done.store(true);
+            state->finished.notify_all();
+        };
+
+        auto impl = std::make_unique<JobImpl>();
+        impl->state = state;
+        impl->thread = std::thread(std::move(work));
+        RenderJob job;
+        Access::set(job, std::move(impl));
+        return job;
+    });
+}
+
+}  // namespace pnb

@@ -1,0 +1,274 @@
+// pnb::Scene: a scene built in code, every value checked as it is added.
+#include "api/api_internal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pnb {
+
+namespace {
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool nonNegative(const Color& c) {
+    return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b) && c.r >= 0.f && c.g >= 0.f && c.b >= 0.f;
+}
+std::string str(const Vec3& v) {
+    // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "(" + std::to_string(...).
+    std::string s(1, '(');
+    s += std::to_string(v.x);
+    s += ", ";
+    s += std::to_string(v.y);
+    s += ", ";
+    s += std::to_string(v.z);
+    s += ')';
+    return s;
+}
+
+void requireFinite(const Vec3& v, const char* what) {
+    require(finite(v), std::string(what) + " must be finite, got " + str(v));
+}
+void requireDirection(const Vec3& v, const char* what) {
+    requireFinite(v, what);
+    require(v.x != 0.f || v.y != 0.f || v.z != 0.f, std::string(what) + " must not be the zero vector");
+}
+void requireColor(const Color& c, const std::string& what) {
+    require(nonNegative(c), what + " must be finite and >= 0");
+}
+
+void requireMaterial(const pn::Scene& s, MaterialId id, const std::string& what) {
+    const size_t count = std::max<size_t>(s.materials.size(), 1);  // id 0: the default material
+    require(id < count, what + ": material id " + std::to_string(id) + " does not exist (the scene has " +
+                            std::to_string(s.materials.size()) + " materials)");
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- Scene
+
+Scene::Scene() : impl_(std::make_unique<Impl>()) {}
+Scene::~Scene() = default;
+Scene::Scene(const Scene& other) : impl_(guarded([&] { return std::make_unique<Impl>(*other.impl_); })) {}
+Scene& Scene::operator=(const Scene& other) {
+    if (this != &other) impl_ = guarded([&] { return std::make_unique<Impl>(*other.impl_); });
+    return *this;
+}
+// Every method dereferences impl_, so a moved-from object must keep one: move
+// construction leaves a fresh empty Impl behind, move assignment swaps.
+Scene::Scene(Scene&& other) noexcept : impl_(std::move(other.impl_)) {
+    other.impl_ = std::unique_ptr<Impl>(new (std::nothrow) Impl());
+}
+Scene& Scene::operator=(Scene&& other) noexcept {
+    std::swap(impl_, other.impl_);
+    return *this;
+}
+
+MaterialId Scene::addMaterial(const Material& m) {
+    return guarded([&] {
+        pn::Scene& s = impl_->scene;
+        const std::string what = "material '" + m.name + "'";
+        requireColor(m.ka, what + ": ka");
+        requireColor(m.kd, what + ": kd");
+        requireColor(m.ks, what + ": ks");
+        requireColor(m.kr, what + ": kr");
+        requireColor(m.ke, what + ": ke");
+        require(std::isfinite(m.exponent) && m.exponent >= 0.f, what + ": exponent must be finite and >= 0");
+        require(s.materials.size() < std::numeric_limits<MaterialId>::max(), "too many materials");
+        pn::Material pm;
+        pm.name = m.name;
+        pm.ka = in(m.ka);
+        pm.kd = in(m.kd);
+        pm.ks = in(m.ks);
+        pm.exponent = m.exponent;
+        pm.kr = in(m.kr);
+        pm.ke = in(m.ke);
+        pm.twoSidedEmission = m.twoSidedEmission;
+        pm.model = m.model;
+        if (!m.diffuseTexture.empty()) {
+            auto it = std::find(s.textures.begin(), s.textures.end(), m.diffuseTexture);
+            pm.diffuseTexture = int(it - s.textures.begin());
+            if (it == s.textures.end()) s.textures.push_back(m.diffuseTexture);
+        }
+        s.materials.push_back(pm);
+        return MaterialId(s.materials.size() - 1);
+    });
+}
+
+void Scene::addSphere(const Vec3& center, float radius, MaterialId material) {
+    guarded([&] {
+        requireFinite(center, "sphere centre");
+        require(std::isfinite(radius) && radius > 0.f, "sphere radius must be finite and > 0, got " +
+                                                           std::to_string(radius));
+        requireMaterial(impl_->scene, material, "sphere");
+        impl_->scene.spheres.push_back(pn::Sphere{in(center), radius, material});
+    });
+}
+
+void Scene::addPlane(const Vec3& point, const Vec3& normal, MaterialId material, bool twoSided) {
+    guarded([&] {
+        requireFinite(point, "plane point");
+        requireDirection(normal, "plane normal");
+        requireMaterial(impl_->scene, material, "plane");
+        impl_->scene.planes.push_back(pn::Plane{in(point), pn::normalize(in(normal)), twoSided, material});
+    });
+}
+
+void Scene::addBox(const Vec3& lo, const Vec3& hi, MaterialId material) { addBox(lo, hi, Matrix3x4{}, material); }
+
+void Scene::addBox(const Vec3& lo, const Vec3& hi, const Matrix3x4& worldFromObject, MaterialId material) {
+    guarded([&] {
+        requireFinite(lo, "box lo");
+        requireFinite(hi, "box hi");
+        require(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z, "box lo " + str(lo) + " must be below hi " + str(hi) +
+                                                               " on every axis");
+        for (const auto& row : worldFromObject.m)
+            for (float v : row) require(std::isfinite(v), "box transform must be finite");
+        pn::Transform t = in(worldFromObject), inverse;
+        require(t.inverse(inverse), "box transform is singular");
+        requireMaterial(impl_->scene, material, "box");
+        impl_->scene.boxes.push_back(pn::makeBox(in(lo), in(hi), t, material));
+    });
+}
+
+void Scene::addRectangle(const Vec3& corner, const Vec3& edgeA, const Vec3& edgeB, MaterialId material) {
+    guarded([&] {
+        requireFinite(corner, "rectangle corner");
+        requireDirection(edgeA, "rectangle edge a");
+        requireDirection(edgeB, "rectangle edge b");
+        require(pn::lengthSquared(pn::cross(in(edgeA), in(edgeB))) > 0.f, "rectangle edges must not be parallel");
+        requireMaterial(impl_->scene, material, "rectangle");
+        impl_->scene.rectangles.push_back(pn::Rectangle{in(corner), in(edgeA), in(edgeB), material});
+    });
+}
+
+void Scene::addDisk(const Vec3& center, const Vec3& normal, float radius, MaterialId material) {
+    guarded([&] {
+        requireFinite(center, "disk centre");
+        requireDirection(normal, "disk normal");
+        require(std::isfinite(radius) && radius > 0.f, "disk radius must be finite and > 0, got " +
+                                                           std::to_string(radius));
+        requireMaterial(impl_->scene, material, "disk");
+        impl_->scene.disks.push_back(pn::Disk{in(center), pn::normalize(in(normal)), radius, material});
+    });
+}
+
+void Scene::addMesh(const MeshDesc& d) {
+    guarded([&] {
+        const std::string what = "mesh '" + d.name + "'";
+        require(d.vertexCount > 0 && d.triangleCount > 0, what + ": needs at least one vertex and one triangle");
+        require(d.positions != nullptr, what + ": positions are null");
+        require(d.indices != nullptr, what + ": indices are null");
+        require(d.vertexCount <= std::numeric_limits<uint32_t>::max() &&
+                    d.triangleCount <= std::numeric_limits<uint32_t>::max() / 3,
+                what + ": too many vertices or triangles for 32-bit indices");
+        pn::Scene& s = impl_->scene;
+        if (!d.faceMaterials) requireMaterial(s, d.material, what);
+
+        pn::TriangleMesh mesh;
+        mesh.name = d.name;
+        mesh.material = d.material;
+        mesh.positions.reserve(d.vertexCount);
+        for (size_t i = 0; i < d.vertexCount; ++i) {
+            const Vec3 p{d.positions[3 * i], d.positions[3 * i + 1], d.positions[3 * i + 2]};
+            require(finite(p), what + ": vertex " + std::to_string(i) + " is not finite");
+            mesh.positions.push_back(in(p));
+        }
+        mesh.indices.assign(d.indices, d.indices + 3 * d.triangleCount);
+        for (size_t i = 0; i < mesh.indices.size(); ++i)
+            require(mesh.indices[i] < d.vertexCount,
+                    what + ": triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(mesh.indices[i]) +
+                        ", but the mesh has " + std::to_string(d.vertexCount) + " vertices");
+        if (d.normals) {
+            mesh.normals.reserve(d.vertexCount);
+            for (size_t i = 0; i < d.vertexCount; ++i) {
+                const Vec3 n{d.normals[3 * i], d.normals[3 * i + 1], d.normals[3 * i + 2]};
+                require(finite(n), what + ": normal " + std::to_string(i) + " is not finite");
+                mesh.normals.push_back(in(n));
+            }
+        }
+        if (d.uvs) {
+            mesh.uvs.reserve(d.vertexCount);
+            for (size_t i = 0; i < d.vertexCount; ++i) {
+                const float u = d.uvs[2 * i], v = d.uvs[2 * i + 1];
+                require(std::isfinite(u) && std::isfinite(v), what + ": uv " + std::to_string(i) + " is not finite");
+                mesh.uvs.push_back(pn::Vec2f{u, v});
+            }
+        }
+        if (d.faceMaterials) {
+            mesh.faceMaterials.assign(d.faceMaterials, d.faceMaterials + d.triangleCount);
+            for (size_t t = 0; t < d.triangleCount; ++t)
+                requireMaterial(s, mesh.faceMaterials[t], what + ": triangle " + std::to_string(t));
+        }
+        s.meshes.push_back(std::move(mesh));
+    });
+}
+
+void Scene::addMesh(const std::vector<float>& positions, const std::vector<std::uint32_t>& indices,
+                    MaterialId material) {
+    guarded([&] {
+        require(positions.size() % 3 == 0, "mesh positions: " + std::to_string(positions.size()) +
+                                               " floats is not a multiple of 3");
+        require(indices.size() % 3 == 0, "mesh indices: " + std::to_string(indices.size()) +
+                                             " indices is not a multiple of 3");
+    });
+    MeshDesc d;
+    d.positions = positions.data();
+    d.vertexCount = positions.size() / 3;
+    d.indices = indices.data();
+    d.triangleCount = indices.size() / 3;
+    d.material = material;
+    addMesh(d);
+}
+
+void Scene::addPointLight(const Vec3& position, const Color& intensity) {
+    guarded([&] {
+        requireFinite(position, "point light position");
+        requireColor(intensity, "point light intensity");
+        impl_->scene.pointLights.push_back(pn::PointLight{in(position), in(intensity)});
+    });
+}
+
+void Scene::addDirectionalLight(const Vec3& direction, const Color& irradiance) {
+    guarded([&] {
+        requireDirection(direction, "directional light direction");
+        requireColor(irradiance, "directional light irradiance");
+        impl_->scene.directionalLights.push_back(pn::DirectionalLight{pn::normalize(in(direction)), in(irradiance)});
+    });
+}
+
+void Scene::setAmbient(const Color& ambient) {
+    guarded([&] {
+        requireColor(ambient, "ambient light");
+        impl_->scene.ambient = in(ambient);
+    });
+}
+
+void Scene::setBackground(const Color& background) {
+    guarded([&] {
+        requireColor(background, "background");
+        impl_->scene.background = in(background);
+    });
+}
+
+void Scene::setCamera(const Camera& camera) {
+    guarded([&] {
+        pn::validateCamera(in(camera));
+        impl_->camera = in(camera);
+    });
+}
+
+std::optional<Camera> Scene::camera() const {
+    if (!impl_->camera) return std::nullopt;
+    return out(*impl_->camera);
+}
+
+Camera Scene::defaultCamera(float aspect, float vfovDegrees) const {
+    return guarded([&] { return defaultCameraFor(impl_->camera, impl_->scene.bounds(), aspect, vfovDegrees); });
+}
+
+RenderSettings Scene::settings() const { return settingsFrom(impl_->settings); }
+std::size_t Scene::materialCount() const { return impl_->scene.materials.size(); }
+std::size_t Scene::primitiveCount() const { return impl_->scene.primitiveCount(); }
+std::size_t Scene::triangleCount() const { return impl_->scene.triangleCount(); }
+
+}  // namespace pnb

@@ -1,0 +1,301 @@
+// penumbra: the command-line renderer.
+//   penumbra SCENE.{obj,json} -o OUT.{exr,hdr,pfm,png,jpg,tif} [options]
+// Exit code 0 on success; 1 with a one-line error naming the file and the
+// problem otherwise; 2 for command-line usage errors; 130 when interrupted.
+//
+// An ordinary host of the public C++ API (<penumbra/penumbra.hpp>): it loads,
+// prepares and renders through pnb::Renderer like any embedding program.
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <new>
+#include <nlohmann/json.hpp>
+#include <penumbra/penumbra.hpp>
+#include <set>
+#include <vector>
+
+#include "cli_options.h"
+#include "clobber_check.h"
+#include "progress_reporter.h"
+
+namespace penumbra::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using pnb::Error;
+using pnb::ErrorCode;
+
+// The one piece of process-wide state: set by SIGINT/SIGTERM, polled by the
+// render loop (an application concern; the library itself has none).
+std::atomic<bool> gInterrupted{false};
+extern "C" void onSignal(int) { gInterrupted.store(true); }
+
+uint64_t physicalMemoryBytes() {
+    long pages = ::sysconf(_SC_PHYS_PAGES), size = ::sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && size > 0 ? uint64_t(pages) * uint64_t(size) : 0;
+}
+
+double peakMemoryMiB() {
+    rusage ru{};
+    ::getrusage(RUSAGE_SELF, &ru);
+    return double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+bool isExr(const fs::path& p) {
+    std::string e = p.extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return e == ".exr";
+}
+
+/// The scene file's settings (`fromScene`), overridden by the command line.
+pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings s) {
+    if (o.width) s.width = *o.width;
+    if (o.height) s.height = *o.height;
+    if (o.spp) s.spp = *o.spp;
+    if (o.lightSamples) s.lightSamples = *o.lightSamples;
+    if (o.maxDepth) s.maxDepth = *o.maxDepth;
+    if (o.threads) s.threads = *o.threads;
+    if (o.tileSize) s.tileSize = *o.tileSize;
+    if (o.seed) s.seed = *o.seed;
+    if (o.lightSelection)
+        s.lightSelection = *o.lightSelection == "power" ? pnb::LightSelection::Power : pnb::LightSelection::All;
+    s.crop = o.crop;
+    s.aovs = o.aovs;
+    return s;
+}
+
+void applyCameraOptions(const Options& o, pnb::Camera& c) {
+    if (o.eye) c.eye = *o.eye;
+    if (o.lookAt) c.lookAt = *o.lookAt;
+    if (o.up) c.up = *o.up;
+    if (o.fov) c.vfovDegrees = *o.fov;
+    if (o.aperture) c.aperture = *o.aperture;
+    if (o.focusDistance) c.focusDistance = *o.focusDistance;
+}
+
+// --ambient and --background go through pnb::Scene, which holds them to the
+// same limits as a scene file's values; errors name the option.
+void applyLightOptions(const Options& o, pnb::Scene& scene) {
+    auto named = [](const char* option, auto&& apply) {
+        try {
+            apply();
+        } catch (const Error& e) {
+            throw Error(e.code(), std::string(option) + ": " + e.what());
+        }
+    };
+    if (o.ambient) named("--ambient", [&] { scene.setAmbient(*o.ambient); });
+    if (o.background) named("--background", [&] { scene.setBackground(*o.background); });
+}
+
+/// What the command writes: the image, its AOV sibling, the statistics.
+std::vector<OutputFile> outputsOf(const Options& o) {
+    std::vector<OutputFile> out{{o.output, "-o"}};
+    if (o.aovs && !isExr(o.output))
+        out.push_back({o.output.parent_path() / (o.output.stem().string() + ".aovs.exr"), "-o (its AOV image)"});
+    if (!o.statsJson.empty()) out.push_back({o.statsJson, "--stats-json"});
+    return out;
+}
+
+// Everything that can be checked without reading the scene, checked before any work.
+void precheck(const Options& o) {
+    pnb::checkImagePath(o.output.string());
+    if (!o.statsJson.empty()) {
+        auto dir = o.statsJson.parent_path().empty() ? fs::path(".") : o.statsJson.parent_path();
+        if (!fs::is_directory(dir))
+            throw Error(ErrorCode::IoError, o.statsJson.string() + ": folder '" + dir.string() + "' does not exist");
+    }
+    pnb::RenderSettings s = settingsFrom(o, {});
+    s.crop.reset();  // the crop is checked against the final size later
+    pnb::validate(s);
+    if (o.eye && o.lookAt) {
+        pnb::Camera c;
+        applyCameraOptions(o, c);
+        pnb::validate(c);
+    }
+    pnb::Scene probe;
+    applyLightOptions(o, probe);
+    std::error_code ec;
+    if (!fs::exists(o.scene, ec)) throw Error(ErrorCode::FileNotFound, o.scene.string() + ": no such file");
+    const std::vector<OutputFile> outputs = outputsOf(o);
+    for (size_t i = 0; i < outputs.size(); ++i) {
+        refuseOverwrite(outputs[i], o.scene, "the scene file");
+        for (size_t k = 0; k < i; ++k) refuseSameOutput(outputs[k], outputs[i]);
+    }
+}
+
+// Written in full or reported: a short write (a full disk, /dev/full) is an error.
+void writeStatsJson(const fs::path& path, const Options& o, const pnb::RenderSettings& s,
+                    const pnb::PreparedScene& prepared, const pnb::RenderStats& st, double totalSeconds) {
+    nlohmann::json j;
+    j["scene"] = o.scene.string();
+    j["output"] = o.output.string();
+    j["accelerator"] = prepared.accelerator();
+    j["width"] = s.width;
+    j["height"] = s.height;
+    j["spp"] = s.spp;
+    j["light_samples"] = s.lightSamples;
+    j["max_depth"] = s.maxDepth;
+    j["seed"] = s.seed;
+    j["threads"] = st.threads;
+    j["triangles"] = prepared.triangleCount();
+    j["primitives"] = prepared.primitiveCount();
+    j["lights"] = prepared.lightCount();
+    j["build_seconds"] = prepared.buildSeconds();
+    j["render_seconds"] = st.renderSeconds;
+    j["total_seconds"] = totalSeconds;
+    j["rays"] = {{"camera", st.cameraRays},
+                 {"shadow", st.shadowRays},
+                 {"reflection", st.reflectionRays},
+                 {"total", st.cameraRays + st.shadowRays + st.reflectionRays},
+                 {"invalid", st.invalidRays}};
+    j["nonfinite_samples_dropped"] = st.nonFiniteSamples;
+    j["mrays_per_second"] = st.mraysPerSecond;
+    j["peak_memory_mib"] = peakMemoryMiB();
+    std::ofstream out(path);
+    out << j.dump(2) << "\n";
+    out.flush();
+    out.close();
+    if (!out) throw Error(ErrorCode::IoError, path.string() + ": cannot write statistics");
+}
+
+/// Bytes the largest buffers of a render hold at once: the framebuffer, plus
+/// the float copy writeImage makes of it (10 channels for an EXR with AOVs, else 3).
+uint64_t peakImageBytes(const pnb::RenderSettings& s, bool exrWithAovs) {
+    const int64_t pixels = s.crop ? int64_t(s.crop->x1 - s.crop->x0) * (s.crop->y1 - s.crop->y0)
+                                  : int64_t(s.width) * s.height;
+    const uint64_t outputPerPixel = (exrWithAovs ? 10 : 3) * sizeof(float) + (s.aovs && !exrWithAovs ? 7 * sizeof(float) : 0);
+    return pnb::Framebuffer::bytesNeeded(s) + uint64_t(pixels) * outputPerPixel;
+}
+
+// `step` names what runs now, as the message for running out of memory (which
+// says nothing about where).
+int runSteps(const Options& o, std::string& step) {
+    const auto t0 = std::chrono::steady_clock::now();
+    precheck(o);
+
+    pnb::Renderer renderer;  // warnings and errors to stderr
+    pnb::LoadOptions loadOptions;
+    loadOptions.strict = o.strict;
+    // The CLI reads whatever the scene names, but says so when that is outside
+    // the scene's folder, and never writes over what it read.
+    loadOptions.restrictPaths = false;
+    std::set<fs::path> read, outside;
+    loadOptions.onRead = [&](const std::string& file, bool isOutside) {
+        read.insert(file);
+        if (isOutside) outside.insert(file);
+    };
+    step = o.scene.string() + ": out of memory while loading the scene";
+    pnb::Scene scene = renderer.loadScene(o.scene.string(), loadOptions);
+    for (const OutputFile& output : outputsOf(o))
+        for (const fs::path& input : read) refuseOverwrite(output, input, "a file the scene reads");
+    if (!outside.empty())
+        std::fprintf(stderr, "penumbra: warning: %s: reads %zu file(s) outside the scene's folder, first %s\n",
+                     o.scene.string().c_str(), outside.size(), outside.begin()->string().c_str());
+
+    const pnb::RenderSettings settings = settingsFrom(o, scene.settings());
+    pnb::validate(settings);
+    const uint64_t imageBytes = peakImageBytes(settings, isExr(o.output) && o.aovs);
+    const uint64_t ram = physicalMemoryBytes();
+    if (ram && imageBytes > ram / 2)
+        throw Error(ErrorCode::OutOfMemory, "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+                                                " image needs " + std::to_string(imageBytes >> 20) +
+                                                " MiB for its framebuffer and output, more than half of this machine's memory");
+
+    pnb::Camera camera = scene.defaultCamera(float(settings.width) / float(settings.height), o.fov.value_or(40.f));
+    applyCameraOptions(o, camera);
+    pnb::validate(camera);
+    applyLightOptions(o, scene);
+
+    pnb::PrepareOptions prep;
+    prep.accelerator = o.accel;
+    prep.quality = o.buildQuality == "low"      ? pnb::BuildQuality::Low
+                   : o.buildQuality == "medium" ? pnb::BuildQuality::Medium
+                                                : pnb::BuildQuality::High;
+    step = o.scene.string() + ": out of memory while preparing the scene (acceleration structure, lights, textures)";
+    const pnb::PreparedScene prepared = renderer.prepare(std::move(scene), prep);
+
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    ProgressReporter progress(o.quiet);
+    pnb::RenderControl control;
+    control.cancel = &gInterrupted;
+    control.tileProgress = [&](size_t done, size_t total) { progress.update(done, total); };
+    step = "out of memory while rendering a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+           " image";
+    pnb::Framebuffer image(settings);
+    pnb::RenderStats stats;
+    try {
+        stats = renderer.render(prepared, camera, settings, image, control);
+    } catch (const Error& e) {
+        progress.finish();
+        if (e.code() != ErrorCode::Cancelled) throw;
+        std::fprintf(stderr, "penumbra: interrupted; no image written\n");
+        return 130;
+    }
+    progress.finish();
+
+    pnb::ImageOptions wo;
+    wo.exposure = o.exposure;
+    wo.aovs = o.aovs;
+    step = o.output.string() + ": out of memory while writing the image";
+    image.writeImage(o.output.string(), wo);
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!o.statsJson.empty()) writeStatsJson(o.statsJson, o, settings, prepared, stats, total);
+
+    if (!o.quiet) {
+        std::fprintf(stderr,
+                     "penumbra: %zu primitives (%zu triangles), %zu lights, accelerator %s\n"
+                     "penumbra: build %.3f s, render %.3f s on %d threads\n"
+                     "penumbra: rays: %llu camera, %llu shadow, %llu reflection (%.2f Mrays/s); peak memory %.0f MiB\n",
+                     prepared.primitiveCount(), prepared.triangleCount(), prepared.lightCount(),
+                     prepared.accelerator().c_str(), prepared.buildSeconds(), stats.renderSeconds, stats.threads,
+                     (unsigned long long)stats.cameraRays, (unsigned long long)stats.shadowRays,
+                     (unsigned long long)stats.reflectionRays, stats.mraysPerSecond, peakMemoryMiB());
+        if (stats.nonFiniteSamples || stats.invalidRays)
+            std::fprintf(stderr, "penumbra: dropped %llu non-finite samples, %llu invalid rays\n",
+                         (unsigned long long)stats.nonFiniteSamples, (unsigned long long)stats.invalidRays);
+        std::printf("penumbra: wrote %s (%dx%d, %d spp) in %.2f s\n", o.output.string().c_str(), image.width(),
+                    image.height(), settings.spp, total);
+    }
+    return 0;
+}
+
+int run(const Options& o) {
+    std::string step = "out of memory while checking the options";
+    try {
+        return runSteps(o, step);
+    } catch (const std::bad_alloc&) {
+        throw Error(ErrorCode::OutOfMemory, step);
+    } catch (const Error& e) {
+        // The API reports an allocation failure as a bare "out of memory"; say where.
+        if (e.code() == ErrorCode::OutOfMemory && std::string(e.what()) == "out of memory")
+            throw Error(ErrorCode::OutOfMemory, step);
+        throw;
+    }
+}
+
+}  // namespace
+}  // namespace penumbra::cli
+
+int main(int argc, char** argv) {
+    using namespace penumbra;
+    try {
+        auto parsed = cli::parseCommandLine(argc, argv);
+        if (!parsed.options) return parsed.exitCode;
+        return cli::run(*parsed.options);
+    } catch (const pnb::Error& e) {
+        std::fprintf(stderr, "penumbra: error: %s\n", e.what());
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "penumbra: error: out of memory\n");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "penumbra: error: %s\n", e.what());
+    }
+    return 1;
+}

@@ -1,6 +1,6 @@
 # Checks the include rules that keep the architecture visible (run by CTest):
 #   Embree only in accel/, TBB only in core/parallel_tbb.cpp, OpenImageIO only
-#   in core/image_io.cpp and core/texture_cache.cpp, tinyobjloader only in
+#   in core/oiio/oiio_module.cpp (the dlopen()ed image module), tinyobjloader only in
 #   core/obj_loader.cpp; the public headers include only the standard library
 #   and each other; lights/ and accel/ do not include each other.
 # Usage: cmake -DSOURCE_DIR=<repo> -P CheckLayering.cmake
@@ -19,8 +19,8 @@ foreach(_f IN LISTS _files)
     if(_line MATCHES "<tbb/" AND NOT _f STREQUAL "core/parallel_tbb.cpp")
       list(APPEND _errors "${_f}: includes TBB outside core/parallel_tbb.cpp")
     endif()
-    if(_line MATCHES "OpenImageIO/" AND NOT _f MATCHES "^core/(image_io|texture_cache)\\.cpp$")
-      list(APPEND _errors "${_f}: includes OpenImageIO outside core/image_io.cpp and core/texture_cache.cpp")
+    if(_line MATCHES "OpenImageIO/" AND NOT _f STREQUAL "core/oiio/oiio_module.cpp")
+      list(APPEND _errors "${_f}: includes OpenImageIO outside core/oiio/oiio_module.cpp")
     endif()
     if(_line MATCHES "tiny_obj_loader" AND NOT _f STREQUAL "core/obj_loader.cpp")
       list(APPEND _errors "${_f}: includes tinyobjloader outside core/obj_loader.cpp")

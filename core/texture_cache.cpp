@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/oiio_library.h"
+#include "core/parallel.h"
 
 namespace penumbra {
 namespace {
@@ -96,116 +97,174 @@ int openTexture(const std::string& path, std::string& why) {
     return fd;
 }
 
+// One texture on its way in: its descriptor, what the header said, and why it was refused.
+struct Pending {
+    int fd = -1;
+    bool owned = false;  // opened here (no descriptor handed over): closed here
+    bool ok = false;
+    uint64_t need = 0;   // decoded bytes with MIP levels, from the header
+    oiio::Decoded header;
+    std::string why;
+};
+
+uint64_t bytesWithMips(const oiio::Decoded& d) {
+    const uint64_t level0 = uint64_t(d.width) * uint64_t(d.height) * uint64_t(std::min(d.channels, 3)) *
+                            (d.bytesPerChannel == 1 && !d.floatData ? 1u : 4u);
+    return level0 + level0 / 3;
+}
+
+// Header of `p.fd`: a regular file, an image, and within `budget` on its own.
+void readHeader(const oiio::Api& api, const std::string& name, uint64_t budget, Pending& p) {
+    struct stat st {};
+    if (::fstat(p.fd, &st) != 0) {
+        p.why = std::strerror(errno);
+        return;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        p.why = "it is not a regular file";
+        return;
+    }
+    oiio::DecodeRequest rq;
+    rq.fd = p.fd;
+    rq.name = name;
+    rq.maxChannels = 3;
+    rq.floatPixels = false;
+    rq.maxBytes = std::max<uint64_t>(1, budget / 4 * 3);
+    rq.headerOnly = true;
+    const oiio::Status status = api.decode(rq, p.header, p.why);
+    if (status == oiio::Status::OverBudget && p.header.width == 0) {
+        p.why = "the file alone is " + mib(double(p.header.fileBytes)) + ", more than the " + mib(double(budget)) +
+                " texture budget";
+        return;
+    }
+    p.need = bytesWithMips(p.header);
+    if (status == oiio::Status::OverBudget) p.need = std::max(p.need, budget + 1);  // reported with the running total
+    else if (status != oiio::Status::Ok) return;
+    p.ok = true;
+}
+
+// Decodes `p` completely and MIP-maps it; false with p.why.
+bool decodePixels(const oiio::Api& api, const std::string& name, Pending& p, Texture& tex) {
+    oiio::DecodeRequest rq;
+    rq.fd = p.fd;
+    rq.name = name;
+    rq.maxChannels = 3;
+    rq.floatPixels = false;
+    rq.maxBytes = p.need;  // the file may have changed since its header was read
+    oiio::Decoded d;
+    const oiio::Status status = api.decode(rq, d, p.why);
+    if (status == oiio::Status::OverBudget) p.why = "it grew past the texture budget while being read";
+    if (status != oiio::Status::Ok) return false;
+    tex.is8bit = d.type == oiio::PixelType::U8;
+    tex.channels = d.decodedChannels >= 3 ? 3 : 1;
+    // Files say what they hold through oiio:ColorSpace; without it, 8-bit
+    // images are taken to be sRGB (what PNG and JPEG textures almost always are).
+    const std::string& cs = d.colorSpace;
+    tex.srgb = !cs.empty() ? (cs.size() >= 4 && (cs.compare(0, 4, "sRGB") == 0 || cs.compare(0, 4, "srgb") == 0 ||
+                                                 cs.compare(0, 4, "SRGB") == 0))
+                           : (d.bytesPerChannel == 1 && !d.floatData);
+    Level base;
+    base.w = d.width;
+    base.h = d.height;
+    const size_t texels = size_t(d.width) * size_t(d.height);
+    // Keep channel 0 of grey (+ alpha) images, the first three of colour ones.
+    const int srcCh = d.decodedChannels;
+    if (tex.is8bit) {
+        if (srcCh == tex.channels) base.u8 = std::move(d.pixels);
+        else {
+            base.u8.resize(texels * size_t(tex.channels));
+            for (size_t i = 0; i < texels; ++i)
+                for (int c = 0; c < tex.channels; ++c) base.u8[i * tex.channels + c] = d.pixels[i * srcCh + c];
+        }
+    } else {
+        base.f32.resize(texels * size_t(tex.channels));
+        const float* src = reinterpret_cast<const float*>(d.pixels.data());
+        for (size_t i = 0; i < texels; ++i)
+            for (int c = 0; c < tex.channels; ++c) base.f32[i * tex.channels + c] = src[i * srcCh + c];
+    }
+    d.pixels = {};
+    tex.levels.push_back(std::move(base));
+    while (tex.levels.back().w > 1 || tex.levels.back().h > 1)
+        tex.levels.push_back(downsample(tex.levels.back(), tex.channels, tex.is8bit));
+    return true;
+}
+
 }  // namespace
 
 struct TextureCache::Impl {
     std::vector<Texture> textures;
     uint64_t bytes = 0;
-
-    // Decodes texture from `fd` within `left` bytes; returns false with `why`.
-    bool decode(Texture& tex, int fd, const std::string& name, uint64_t left, std::string& why) {
-        struct stat st {};
-        if (::fstat(fd, &st) != 0) {
-            why = std::strerror(errno);
-            return false;
-        }
-        if (!S_ISREG(st.st_mode)) {
-            why = "it is not a regular file";
-            return false;
-        }
-        const oiio::Api* api = nullptr;
-        try {
-            api = &oiioLibrary();
-        } catch (const Error& e) {
-            why = e.what();
-            return false;
-        }
-        oiio::DecodeRequest rq;
-        rq.fd = fd;
-        rq.name = name;
-        rq.maxChannels = 3;
-        rq.floatPixels = false;
-        // MIP levels add a third to level 0; the module checks level 0 against the rest, from the header alone.
-        rq.maxBytes = std::max<uint64_t>(1, left / 4 * 3);
-        oiio::Decoded d;
-        const oiio::Status status = api->decode(rq, d, why);
-        if (status == oiio::Status::OverBudget && d.width == 0) {
-            why = "the file alone is " + mib(double(d.fileBytes)) + ", more than the " + mib(double(left)) +
-                  " left of the texture budget";
-            return false;
-        }
-        if (status == oiio::Status::OverBudget) {
-            const double texels = double(d.width) * double(d.height);
-            const double need = texels * std::min(d.channels, 3) * (d.floatData || d.bytesPerChannel != 1 ? 4 : 1) * 4 / 3;
-            why = "its header says " + std::to_string(d.width) + "x" + std::to_string(d.height) + " pixels, " +
-                  mib(need) + " decoded with its MIP levels, more than the " + mib(double(left)) +
-                  " left of the texture budget";
-            return false;
-        }
-        if (status != oiio::Status::Ok) return false;
-        tex.is8bit = d.type == oiio::PixelType::U8;
-        tex.channels = d.decodedChannels >= 3 ? 3 : 1;
-        // Files say what they hold through oiio:ColorSpace; without it, 8-bit
-        // images are taken to be sRGB (what PNG and JPEG textures almost always are).
-        const std::string& cs = d.colorSpace;
-        tex.srgb = !cs.empty() ? (cs.size() >= 4 && (cs.compare(0, 4, "sRGB") == 0 || cs.compare(0, 4, "srgb") == 0 ||
-                                                     cs.compare(0, 4, "SRGB") == 0))
-                               : (d.bytesPerChannel == 1 && !d.floatData);
-        Level base;
-        base.w = d.width;
-        base.h = d.height;
-        const size_t texels = size_t(d.width) * size_t(d.height);
-        // Keep channel 0 of grey (+ alpha) images, the first three of colour ones.
-        const int srcCh = d.decodedChannels;
-        if (tex.is8bit) {
-            if (srcCh == tex.channels) base.u8 = std::move(d.pixels);
-            else {
-                base.u8.resize(texels * size_t(tex.channels));
-                for (size_t i = 0; i < texels; ++i)
-                    for (int c = 0; c < tex.channels; ++c) base.u8[i * tex.channels + c] = d.pixels[i * srcCh + c];
-            }
-        } else {
-            base.f32.resize(texels * size_t(tex.channels));
-            const float* src = reinterpret_cast<const float*>(d.pixels.data());
-            for (size_t i = 0; i < texels; ++i)
-                for (int c = 0; c < tex.channels; ++c) base.f32[i * tex.channels + c] = src[i * srcCh + c];
-        }
-        d.pixels = {};
-        tex.levels.push_back(std::move(base));
-        while (tex.levels.back().w > 1 || tex.levels.back().h > 1)
-            tex.levels.push_back(downsample(tex.levels.back(), tex.channels, tex.is8bit));
-        for (const Level& l : tex.levels) bytes += l.u8.size() + l.f32.size() * sizeof(float);
-        return true;
-    }
 };
 
 TextureCache::TextureCache(const std::vector<std::string>& paths, const Logger& log, const std::vector<int>& fds,
                            TextureBudget budget)
     : impl_(std::make_unique<Impl>()) {
-    impl_->textures.resize(paths.size());
-    for (size_t i = 0; i < paths.size(); ++i) {
-        Texture& tex = impl_->textures[i];
-        std::string why;
-        const bool handedOver = i < fds.size() && fds[i] >= 0;
-        const int fd = handedOver ? fds[i] : openTexture(paths[i], why);
-        bool ok = false;
-        if (fd >= 0) {
-            const uint64_t left = budget.maxBytes > impl_->bytes ? budget.maxBytes - impl_->bytes : 0;
-            try {
-                ok = impl_->decode(tex, fd, paths[i], left, why);
-            } catch (const std::bad_alloc&) {
-                why = "out of memory while decoding it";
-            }
-            if (!handedOver) ::close(fd);
+    const size_t n = paths.size();
+    impl_->textures.resize(n);
+    std::vector<Pending> pending(n);
+    const oiio::Api* api = nullptr;
+    std::string noModule;
+    if (n > 0) {
+        try {
+            api = &oiioLibrary();
+        } catch (const Error& e) {
+            noModule = e.what();
         }
-        if (!ok) {
-            tex = Texture{};
-            std::replace(why.begin(), why.end(), '\n', ' ');  // keep the warning on one line
-            log.warn(paths[i] + ": cannot read texture" + (why.empty() ? std::string() : " (" + why + ")") +
+    }
+    for (size_t i = 0; i < n; ++i) {
+        Pending& p = pending[i];
+        if (i < fds.size() && fds[i] >= 0) {
+            p.fd = fds[i];
+        } else {
+            p.fd = openTexture(paths[i], p.why);
+            p.owned = p.fd >= 0;
+        }
+        if (!api && p.fd >= 0) p.why = noModule;
+    }
+    // Headers in parallel, then the budget in texture order (the same textures
+    // fit whatever the thread count), then the pixels of those that fit in parallel.
+    if (api)
+        parallelFor(n, 0, [&](size_t i) {
+            if (pending[i].fd >= 0) readHeader(*api, paths[i], budget.maxBytes, pending[i]);
+        });
+    uint64_t total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        Pending& p = pending[i];
+        if (!p.ok) continue;
+        const uint64_t left = budget.maxBytes - total;
+        if (p.need > left) {
+            p.ok = false;
+            p.why = "its header says " + std::to_string(p.header.width) + "x" + std::to_string(p.header.height) +
+                    " pixels, " + mib(double(bytesWithMips(p.header))) + " decoded with its MIP levels, more than the " +
+                    mib(double(left)) + " left of the texture budget";
+            continue;
+        }
+        total += p.need;
+    }
+    if (api)
+        parallelFor(n, 0, [&](size_t i) {
+            Pending& p = pending[i];
+            if (!p.ok) return;
+            try {
+                p.ok = decodePixels(*api, paths[i], p, impl_->textures[i]);
+            } catch (const std::bad_alloc&) {
+                p.ok = false;
+                p.why = "out of memory while decoding it";
+            }
+            if (!p.ok) impl_->textures[i] = Texture{};
+        });
+    for (size_t i = 0; i < n; ++i) {
+        Pending& p = pending[i];
+        if (p.owned) ::close(p.fd);
+        Texture& tex = impl_->textures[i];
+        if (!p.ok) {
+            std::replace(p.why.begin(), p.why.end(), '\n', ' ');  // keep the warning on one line
+            log.warn(paths[i] + ": cannot read texture" + (p.why.empty() ? std::string() : " (" + p.why + ")") +
                      "; rendering without it");
             continue;
         }
         tex.enabled = true;
+        for (const Level& l : tex.levels) impl_->bytes += l.u8.size() + l.f32.size() * sizeof(float);
     }
 }
 

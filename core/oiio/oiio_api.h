@@ -62,6 +62,7 @@ struct DecodeRequest {
     int maxChannels = 0;     // decode channels [0, min(file, maxChannels)); 0: all
     bool floatPixels = true; // false: 8-bit files decode as U8, others as F32
     uint64_t maxBytes = 0;   // decoded size allowed (width*height*channels*bytes as decoded); 0: no limit
+    bool headerOnly = false; // stop after the header (and the budget check): Ok with no pixels
 };
 
 struct Api {

@@ -194,6 +194,7 @@ Status decode(const DecodeRequest& rq, Decoded& out, std::string& error) noexcep
         const uint64_t bytes = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(out.decodedChannels) *
                                (out.type == PixelType::U8 ? 1u : 4u);
         if (rq.maxBytes > 0 && bytes > rq.maxBytes) return Status::OverBudget;
+        if (rq.headerOnly) return Status::Ok;
         out.pixels.resize(size_t(bytes));
         const OIIO::TypeDesc type = out.type == PixelType::U8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
         if (!in->read_image(0, 0, 0, out.decodedChannels, type, out.pixels.data())) {

@@ -1,6 +1,6 @@
 # Checks the include rules that keep the architecture visible (run by CTest):
 #   Embree only in accel/, TBB only in core/parallel_tbb.cpp, OpenImageIO only
-#   in core/image_io.cpp and core/texture_cache.cpp, tinyobjloader only in
+#   in core/oiio/oiio_module.cpp (the dlopen()ed image module), tinyobjloader only in
 #   core/obj_loader.cpp; lights/ and accel/ do not include each other;
 #   the stack core <- accel, lights <- shading <- api <- apps points one way.
 #   The public headers (api/include/penumbra/) include only the standard
@@ -25,8 +25,8 @@ foreach(_f IN LISTS _files)
     if(_line MATCHES "<tbb/" AND NOT _f STREQUAL "core/parallel_tbb.cpp")
       list(APPEND _errors "${_f}: includes TBB outside core/parallel_tbb.cpp")
     endif()
-    if(_line MATCHES "OpenImageIO/" AND NOT _f MATCHES "^core/(image_io|texture_cache)\\.cpp$")
-      list(APPEND _errors "${_f}: includes OpenImageIO outside core/image_io.cpp and core/texture_cache.cpp")
+    if(_line MATCHES "OpenImageIO/" AND NOT _f STREQUAL "core/oiio/oiio_module.cpp")
+      list(APPEND _errors "${_f}: includes OpenImageIO outside core/oiio/oiio_module.cpp")
     endif()
     if(_line MATCHES "tiny_obj_loader" AND NOT _f STREQUAL "core/obj_loader.cpp")
       list(APPEND _errors "${_f}: includes tinyobjloader outside core/obj_loader.cpp")

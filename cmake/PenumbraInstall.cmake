@@ -62,3 +62,8 @@ else()
 endif()
 configure_file(${PROJECT_SOURCE_DIR}/cmake/penumbra.pc.in ${PROJECT_BINARY_DIR}/penumbra.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/penumbra.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig COMPONENT Development)
+
+# ---- The image module (io): libpenumbra_oiio.so holds OpenImageIO and is
+# dlopen()ed by libpenumbra on the first image, from the folder libpenumbra.so
+# lies in, so it is installed beside it. Not part of the export set: hosts never link it.
+install(TARGETS penumbra_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT Runtime)

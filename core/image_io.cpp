@@ -1,19 +1,23 @@
 #include "core/image_io.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
-#include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
-#include <fstream>
+#include <cstring>
+#include <optional>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/oiio_library.h"
 
 namespace penumbra {
 namespace fs = std::filesystem;
 namespace {
+
+using Bytes = std::vector<unsigned char>;
 
 std::string lowerExtension(const fs::path& p) {
     std::string e = p.extension().string();
@@ -21,86 +25,64 @@ std::string lowerExtension(const fs::path& p) {
     return e;
 }
 
-// A unique temporary name next to the target, keeping its extension so that
-// OpenImageIO picks the same writer.
-fs::path temporaryPathFor(const fs::path& target) {
-    // pid + a clock tick keep concurrent writers (processes or threads) apart.
-    auto tick = std::chrono::steady_clock::now().time_since_epoch().count();
-    std::string name(".");
-    name += target.stem().string();
-    name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(tick);
-    name += target.extension().string();
-    return target.parent_path() / name;
+[[noreturn]] void writeFailed(const fs::path& path, const std::string& why) {
+    throw Error(ErrorCode::IoError, path.string() + ": cannot write image: " + why);
 }
 
-void writeRaw(const fs::path& path, const OIIO::ImageSpec& spec, const void* data, OIIO::TypeDesc type) {
-    fs::path tmp = temporaryPathFor(path);
-    std::string tmpName = tmp.string();
-    auto fail = [&](const std::string& why) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw Error(ErrorCode::IoError, path.string() + ": cannot write image: " + why);
-    };
-    auto out = OIIO::ImageOutput::create(path.string());
-    if (!out) fail("no writer for this format (" + OIIO::geterror() + ")");
-    if (!out->open(tmpName, spec)) fail(out->geterror());
-    if (!out->write_image(type, data)) {
-        std::string e = out->geterror();
-        out->close();
-        fail(e);
-    }
-    if (!out->close()) fail(out->geterror());
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) fail(ec.message());
-}
+// libjpeg ends the process (exit) on a dimension it cannot store; refuse first.
+constexpr int kMaxJpegSide = 65500;
 
 // Debian's OpenImageIO 2.4 reads PFM but has no PFM writer, and the format is
 // a three-line header plus raw floats: colour "PF", little-endian (negative
 // scale), rows stored bottom to top.
-void writePfm(const fs::path& path, const Film& film) {
-    fs::path tmp = temporaryPathFor(path);
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        if (!out) throw Error(ErrorCode::IoError, path.string() + ": cannot write image: cannot create a file in its folder");
-        out << "PF\n" << film.width() << " " << film.height() << "\n-1.0\n";
-        std::vector<float> px = film.radianceBuffer(3);
-        const size_t row = size_t(film.width()) * 3;
-        for (int y = film.height() - 1; y >= 0; --y)
-            out.write(reinterpret_cast<const char*>(px.data() + size_t(y) * row), std::streamsize(row * sizeof(float)));
-        out.close();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throw Error(ErrorCode::IoError, path.string() + ": cannot write image: write failed");
-        }
-    }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error(ErrorCode::IoError, path.string() + ": cannot write image: " + ec.message());
-    }
+Bytes encodePfm(const Film& film) {
+    static_assert(std::endian::native == std::endian::little, "the PFM writer assumes a little-endian host");
+    const std::string header = "PF\n" + std::to_string(film.width()) + " " + std::to_string(film.height()) + "\n-1.0\n";
+    const std::vector<float> px = film.radianceBuffer(3);
+    const size_t row = size_t(film.width()) * 3 * sizeof(float);
+    Bytes out(header.begin(), header.end());
+    out.resize(header.size() + row * size_t(film.height()));
+    unsigned char* dst = out.data() + header.size();
+    for (int y = film.height() - 1; y >= 0; --y, dst += row) std::memcpy(dst, px.data() + size_t(y) * film.width() * 3, row);
+    return out;
 }
 
-void addMetadata(OIIO::ImageSpec& spec, const ImageMetadata& m) {
-    spec.attribute("Software", m.software.empty() ? std::string("Penumbra") : m.software);
-    spec.attribute("penumbra:spp", m.spp);
-    spec.attribute("penumbra:seed", std::to_string(m.seed));
-    spec.attribute("penumbra:render_seconds", static_cast<float>(m.renderSeconds));
+std::vector<oiio::Attribute> metadataAttributes(const ImageMetadata& m) {
+    using K = oiio::Attribute::Kind;
+    std::vector<oiio::Attribute> a(4);
+    a[0] = {"Software", K::String, 0, 0.f, m.software.empty() ? std::string("Penumbra") : m.software};
+    a[1] = {"penumbra:spp", K::Int, m.spp, 0.f, {}};
+    a[2] = {"penumbra:seed", K::String, 0, 0.f, std::to_string(m.seed)};
+    a[3] = {"penumbra:render_seconds", K::Float, 0, static_cast<float>(m.renderSeconds), {}};
+    return a;
 }
 
-void writeAovExr(const fs::path& path, const Film& film, const ImageMetadata& meta, bool withRadiance) {
+// OpenImageIO encodes into memory; the bytes are written by StagedFile.
+Bytes encodeWithOiio(const fs::path& path, oiio::EncodeRequest& rq) {
+    const oiio::Api* api = nullptr;
+    try {
+        api = &oiioLibrary();
+    } catch (const Error& e) {
+        writeFailed(path, e.what());
+    }
+    Bytes out;
+    std::string error;
+    if (!api->encode(rq, out, error)) writeFailed(path, error.empty() ? std::string("encoding failed") : error);
+    return out;
+}
+
+Bytes encodeAovExr(const fs::path& path, const Film& film, const ImageMetadata& meta, bool withRadiance) {
     const int w = film.width(), h = film.height();
     const int nch = (withRadiance ? 3 : 0) + 7;
-    OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::FLOAT);
-    spec.channelnames.clear();
-    if (withRadiance) spec.channelnames = {"R", "G", "B"};
-    for (const char* c : {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z"}) spec.channelnames.push_back(c);
-    if (withRadiance) {
-        spec.alpha_channel = -1;
-    }
-    addMetadata(spec, meta);
+    oiio::EncodeRequest rq;
+    rq.format = "exr";
+    rq.width = w;
+    rq.height = h;
+    rq.channels = nch;
+    rq.type = oiio::PixelType::F32;
+    if (withRadiance) rq.channelNames = {"R", "G", "B"};
+    for (const char* c : {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z"}) rq.channelNames.push_back(c);
+    rq.attributes = metadataAttributes(meta);
     std::vector<float> px(size_t(w) * h * nch);
     for (size_t i = 0, n = size_t(w) * h; i < n; ++i) {
         float* p = &px[i * nch];
@@ -121,7 +103,52 @@ void writeAovExr(const fs::path& path, const Film& film, const ImageMetadata& me
         p[c++] = nn.z;
         p[c++] = film.depth(i);
     }
-    writeRaw(path, spec, px.data(), OIIO::TypeDesc::FLOAT);
+    rq.pixels = px.data();
+    return encodeWithOiio(path, rq);
+}
+
+// The whole file's bytes in memory, for every format.
+Bytes encodeImage(const fs::path& path, ImageFormat fmt, const Film& film, const ImageWriteOptions& options) {
+    if (fmt == ImageFormat::Pfm) return encodePfm(film);
+    const int w = film.width(), h = film.height();
+    oiio::EncodeRequest rq;
+    rq.width = w;
+    rq.height = h;
+    rq.channels = 3;
+    rq.attributes = metadataAttributes(options.metadata);
+    switch (fmt) {
+        case ImageFormat::Exr: rq.format = "exr"; break;
+        case ImageFormat::Hdr: rq.format = "hdr"; break;
+        case ImageFormat::Png: rq.format = "png"; break;
+        case ImageFormat::Jpg: rq.format = "jpg"; break;
+        case ImageFormat::Tif: rq.format = "tif"; break;
+        case ImageFormat::Pfm: break;
+    }
+    if (isFloatFormat(fmt)) {
+        rq.type = oiio::PixelType::F32;
+        const std::vector<float> px = film.radianceBuffer(3);
+        rq.pixels = px.data();
+        return encodeWithOiio(path, rq);
+    }
+    if (fmt == ImageFormat::Jpg && (w > kMaxJpegSide || h > kMaxJpegSide))
+        writeFailed(path, "JPEG stores at most " + std::to_string(kMaxJpegSide) + " pixels a side, the image is " +
+                              std::to_string(w) + "x" + std::to_string(h));
+    rq.type = oiio::PixelType::U8;
+    rq.attributes.push_back({"oiio:ColorSpace", oiio::Attribute::Kind::String, 0, 0.f, "sRGB"});
+    // OpenImageIO 2.4's TIFF writer corrupts the file it writes through an
+    // IOProxy when it adds an Exif directory (the header then lacks
+    // ImageLength); the Exif block only repeated the colour space.
+    if (fmt == ImageFormat::Tif) rq.attributes.push_back({"tiff:write_exif", oiio::Attribute::Kind::Int, 0, 0.f, {}});
+    const float scale = std::exp2(options.exposure);
+    std::vector<uint8_t> px(size_t(w) * h * 3);
+    for (size_t i = 0, n = size_t(w) * h; i < n; ++i) {
+        Rgb L = film.radiance(i) * scale;
+        px[3 * i] = uint8_t(std::lround(linearToSrgb(L.r) * 255.f));
+        px[3 * i + 1] = uint8_t(std::lround(linearToSrgb(L.g) * 255.f));
+        px[3 * i + 2] = uint8_t(std::lround(linearToSrgb(L.b) * 255.f));
+    }
+    rq.pixels = px.data();
+    return encodeWithOiio(path, rq);
 }
 
 }  // namespace
@@ -161,64 +188,54 @@ void checkWritable(const fs::path& path) {
 
 void writeImage(const fs::path& path, const Film& film, const ImageWriteOptions& options) {
     const ImageFormat fmt = imageFormatFromPath(path);
-    const int w = film.width(), h = film.height();
+    // Everything is encoded before anything is written, and every file is
+    // complete on disk (as a temporary) before any is renamed into place, so a
+    // failure leaves the old images (main and AOV sibling) as they were.
     if (fmt == ImageFormat::Exr && options.aovs && film.hasAovs()) {
-        writeAovExr(path, film, options.metadata, true);
+        writeFileAtomically(path, encodeAovExr(path, film, options.metadata, true), "image");
         return;
     }
-    // Other formats keep their AOVs in a sibling EXR. It is written first and
-    // removed again if the main image fails, so a failure leaves neither.
-    fs::path aovPath;
+    const Bytes main = encodeImage(path, fmt, film, options);
     if (options.aovs && film.hasAovs()) {
-        aovPath = path.parent_path() / (path.stem().string() + ".aovs.exr");
-        writeAovExr(aovPath, film, options.metadata, false);
+        const fs::path aovPath = path.parent_path() / (path.stem().string() + ".aovs.exr");
+        const Bytes aovs = encodeAovExr(aovPath, film, options.metadata, false);
+        StagedFile stagedAovs(aovPath, aovs, "image");
+        StagedFile stagedMain(path, main, "image");
+        stagedAovs.commit();
+        stagedMain.commit();
+        return;
     }
-    try {
-        static_assert(std::endian::native == std::endian::little, "the PFM writer assumes a little-endian host");
-        if (fmt == ImageFormat::Pfm) {
-            writePfm(path, film);
-        } else if (isFloatFormat(fmt)) {
-            OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
-            addMetadata(spec, options.metadata);
-            std::vector<float> px = film.radianceBuffer(3);
-            writeRaw(path, spec, px.data(), OIIO::TypeDesc::FLOAT);
-        } else {
-            OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-            addMetadata(spec, options.metadata);
-            spec.attribute("oiio:ColorSpace", "sRGB");
-            const float scale = std::exp2(options.exposure);
-            std::vector<uint8_t> px(size_t(w) * h * 3);
-            for (size_t i = 0, n = size_t(w) * h; i < n; ++i) {
-                Rgb L = film.radiance(i) * scale;
-                px[3 * i] = uint8_t(std::lround(linearToSrgb(L.r) * 255.f));
-                px[3 * i + 1] = uint8_t(std::lround(linearToSrgb(L.g) * 255.f));
-                px[3 * i + 2] = uint8_t(std::lround(linearToSrgb(L.b) * 255.f));
-            }
-            writeRaw(path, spec, px.data(), OIIO::TypeDesc::UINT8);
-        }
-    } catch (...) {
-        if (!aovPath.empty()) {
-            std::error_code ec;
-            fs::remove(aovPath, ec);
-        }
-        throw;
-    }
+    writeFileAtomically(path, main, "image");
 }
 
 ImageData readImage(const fs::path& path) {
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw Error(ErrorCode::IoError, path.string() + ": cannot read image: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
+    auto fail = [&](const std::string& why) -> void {
+        throw Error(ErrorCode::IoError, path.string() + ": cannot read image: " + why);
+    };
+    const oiio::Api* api = nullptr;
+    try {
+        api = &oiioLibrary();
+    } catch (const Error& e) {
+        fail(e.what());
+    }
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) fail(std::strerror(errno));
+    oiio::DecodeRequest rq;
+    rq.fd = fd;
+    rq.name = path.string();
+    oiio::Decoded d;
+    std::string error;
+    const oiio::Status st = api->decode(rq, d, error);
+    ::close(fd);
+    if (st != oiio::Status::Ok) fail(error);
     ImageData img;
-    img.width = spec.width;
-    img.height = spec.height;
-    img.channels = spec.nchannels;
-    img.channelNames = spec.channelnames;
+    img.width = d.width;
+    img.height = d.height;
+    img.channels = d.decodedChannels;
+    img.channelNames = std::move(d.channelNames);
     img.pixels.resize(size_t(img.width) * img.height * img.channels);
-    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-        throw Error(ErrorCode::IoError, path.string() + ": cannot read image: " + in->geterror());
-    for (const auto& p : spec.extra_attribs) img.attributes.emplace_back(p.name().string(), p.get_string());
-    in->close();
+    std::memcpy(img.pixels.data(), d.pixels.data(), img.pixels.size() * sizeof(float));
+    img.attributes = std::move(d.attributes);
     return img;
 }
 

@@ -1,5 +1,7 @@
-// Writing the film (and reading images back, for tests and tools) through
-// OpenImageIO; this is the only file that includes it besides textures.
+// Writing the film (and reading images back, for tests and tools). OpenImageIO
+// encodes and decodes in memory behind libpenumbra_oiio.so (core/oiio/), loaded
+// on the first image; PFM is Penumbra's own; the bytes are written all or
+// nothing by core/atomic_file.h.
 #pragma once
 
 #include <cstdint>
@@ -34,9 +36,12 @@ struct ImageWriteOptions {
 
 /// Writes the film's averaged radiance. Float formats get the linear values
 /// unchanged; PNG/JPG/TIF are exposure-scaled, sRGB-encoded and clamped to
-/// 8 bits. The image is written to a temporary file in the target folder and
-/// renamed into place, so a failure never leaves a partial image behind.
-/// Throws Error(IoError) naming the file.
+/// 8 bits. The whole file is encoded in memory, written to a temporary file in
+/// the target folder with checked writes and fsync, and renamed into place
+/// (with an AOV sibling, both are complete before either is renamed): a full
+/// disk, a file-size limit or an encoder error throws Error(IoError) naming
+/// the file and leaves any existing image and no temporary file. No library
+/// can end the process (JPEG over 65500 pixels a side is refused up front).
 void writeImage(const std::filesystem::path& path, const Film& film, const ImageWriteOptions& options);
 
 /// Throws Error(InvalidArgument/IoError) if `path` cannot be written (folder

@@ -87,7 +87,8 @@ void precheck(const Options& o) {
         validateCamera(c);
     }
     std::error_code ec;
-    if (!std::filesystem::exists(o.scene, ec))
+    // symlink_status: a symlink loop or a FIFO exists, and the loader says what it is.
+    if (std::filesystem::symlink_status(o.scene, ec).type() == std::filesystem::file_type::not_found)
         throw Error(ErrorCode::FileNotFound, o.scene.string() + ": no such file");
 }
 

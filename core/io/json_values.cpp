@@ -118,7 +118,13 @@ std::string SceneReader::string(const Json& j, const std::string& ptr) const {
 
 Vec3f SceneReader::vec3(const Json& j, const std::string& ptr) const {
     if (!j.is_array() || j.size() != 3) fail(ErrorCode::ParseError, ptr, "expected an array of 3 numbers [x, y, z]");
-    return {number(j[0], child(ptr, 0)), number(j[1], child(ptr, 1)), number(j[2], child(ptr, 2))};
+    float v[3];
+    for (size_t k = 0; k < 3; ++k) {
+        // The pointer of a component is built only for its error (a million spheres, three each).
+        if (j[k].is_number() && std::isfinite(v[k] = static_cast<float>(j[k].get<double>()))) continue;
+        v[k] = number(j[k], child(ptr, k));
+    }
+    return {v[0], v[1], v[2]};
 }
 
 Vec3f SceneReader::nonZeroVec3(const Json& j, const std::string& ptr) const {
@@ -133,7 +139,12 @@ Rgb SceneReader::colour(const Json& j, const std::string& ptr) const {
     if (j.is_number()) return Rgb(nonNegative(j, ptr));
     if (!j.is_array() || j.size() != 3)
         fail(ErrorCode::ParseError, ptr, "expected a colour: [r, g, b] or one number, got " + typeName(j));
-    return {nonNegative(j[0], child(ptr, 0)), nonNegative(j[1], child(ptr, 1)), nonNegative(j[2], child(ptr, 2))};
+    float c[3];
+    for (size_t k = 0; k < 3; ++k) {
+        if (j[k].is_number() && (c[k] = static_cast<float>(j[k].get<double>())) >= 0.f && std::isfinite(c[k])) continue;
+        c[k] = nonNegative(j[k], child(ptr, k));
+    }
+    return {c[0], c[1], c[2]};
 }
 
 fs::path SceneReader::resolvePath(const Json& j, const std::string& ptr) const {

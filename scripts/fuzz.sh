@@ -14,9 +14,10 @@ shift || true
 targets=("$@")
 [[ ${#targets[@]} -gt 0 ]] || targets=(fuzz_obj fuzz_json)
 [[ "$seconds" =~ ^[0-9]+$ ]] || { echo "fuzz.sh: SECONDS must be a whole number, got '$seconds'" >&2; exit 2; }
-# Inputs up to 1 MiB reach the loaders' size paths: reads past one 64 KiB chunk,
-# faces beyond 255 and 512 corners, objects with hashed keys, pointers cut short
-# (the seeds in tests/fuzz/corpus_* include such files; 16 KiB reached none of the first).
+# Inputs up to 1 MiB reach the loaders' size paths: faces beyond 255 and 512
+# corners with v/vt/vn indices, objects past 16 keys (hashed duplicate check)
+# with real bodies, pointers longer than the 240-byte cut, arrays of thousands
+# (the seeds in tests/fuzz/corpus_* include such files; 16 KiB reached few).
 max_len=${PENUMBRA_FUZZ_MAX_LEN:-1048576}
 
 if ! command -v clang++ >/dev/null; then

@@ -61,20 +61,30 @@ InputFile::~InputFile() {
 }
 
 std::string InputFile::readAll() const {
-    std::string out;
-    out.resize(static_cast<size_t>(size_));
-    size_t have = 0;
-    for (;;) {
-        if (have == out.size()) out.resize(out.size() + (out.size() < 65536 ? 65536 : out.size() / 2));
-        ssize_t n = ::pread(fd_, out.data() + have, out.size() - have, static_cast<off_t>(have));
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            throw Error(ErrorCode::IoError, path_.string() + ": read error (" + std::strerror(errno) + ")");
+    auto readAt = [&](char* dst, size_t n, size_t offset) -> size_t {
+        for (;;) {
+            ssize_t r = ::pread(fd_, dst, n, static_cast<off_t>(offset));
+            if (r >= 0) return static_cast<size_t>(r);
+            if (errno != EINTR)
+                throw Error(ErrorCode::IoError, path_.string() + ": read error (" + std::strerror(errno) + ")");
         }
-        if (n == 0) break;
-        have += static_cast<size_t>(n);
+    };
+    std::string out(static_cast<size_t>(size_), '\0');
+    size_t have = 0;
+    while (have < out.size()) {
+        const size_t n = readAt(out.data() + have, out.size() - have, have);
+        if (n == 0) break;  // shrunk since fstat
+        have += n;
     }
     out.resize(have);
+    if (have == size_) {
+        // Grown since fstat: read on to the end, in chunks.
+        char chunk[65536];
+        while (const size_t n = readAt(chunk, sizeof chunk, have)) {
+            out.append(chunk, n);
+            have += n;
+        }
+    }
     return out;
 }
 

@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <type_traits>
 
-#include "core/scene_loader.h"
+#include "core/io/scene_loader.h"
 
 #define PNB_TWIN_FIELD(pub, pubf, inner, innerf)                                                       \
     static_assert(offsetof(pub, pubf) == offsetof(inner, innerf) &&                                   \

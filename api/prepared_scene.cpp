@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "core/scene_loader.h"
+#include "core/io/scene_loader.h"
 
 namespace pnb {
 

@@ -1,12 +1,15 @@
 # Checks the include rules that keep the architecture visible (run by CTest):
 #   Embree only in accel/, TBB only in core/parallel_tbb.cpp, OpenImageIO only
 #   in core/oiio/oiio_module.cpp (the dlopen()ed image module), tinyobjloader only in
-#   core/obj_loader.cpp; lights/ and accel/ do not include each other;
-#   the stack core <- accel, lights <- shading <- api <- apps points one way.
-#   The public headers (api/include/penumbra/) include only the standard
-#   library and each other; below api/ only <penumbra/types.hpp> (the value
-#   types, std-only) may be included, never the facade; the penumbra CLI
-#   (apps/penumbra/) includes only public headers, like any other host.
+#   core/io/obj_loader.cpp, nlohmann-json in the library only in
+#   core/io/json_document.h (the JSON loader's files include it from there); the loaders' path policy
+#   (core/io/path_policy, input_file, load_options) is their bottom and includes
+#   no loader; the rest of core does not include the loaders; lights/ and accel/
+#   do not include each other; the stack core <- accel, lights <- shading <- api
+#   <- apps points one way. The public headers (api/include/penumbra/) include
+#   only the standard library and each other; below api/ only
+#   <penumbra/types.hpp> (the value types, std-only) may be included, never the
+#   facade; the penumbra CLI (apps/penumbra/) includes only public headers.
 # Usage: cmake -DSOURCE_DIR=<repo> -P CheckLayering.cmake
 file(GLOB_RECURSE _files RELATIVE ${SOURCE_DIR}
      ${SOURCE_DIR}/core/*.h ${SOURCE_DIR}/core/*.hpp ${SOURCE_DIR}/core/*.cpp
@@ -28,8 +31,20 @@ foreach(_f IN LISTS _files)
     if(_line MATCHES "OpenImageIO/" AND NOT _f STREQUAL "core/oiio/oiio_module.cpp")
       list(APPEND _errors "${_f}: includes OpenImageIO outside core/oiio/oiio_module.cpp")
     endif()
-    if(_line MATCHES "tiny_obj_loader" AND NOT _f STREQUAL "core/obj_loader.cpp")
-      list(APPEND _errors "${_f}: includes tinyobjloader outside core/obj_loader.cpp")
+    if(_line MATCHES "tiny_obj_loader" AND NOT _f STREQUAL "core/io/obj_loader.cpp")
+      list(APPEND _errors "${_f}: includes tinyobjloader outside core/io/obj_loader.cpp")
+    endif()
+    # Inside the library; the CLI writes its --stats-json with nlohmann-json too.
+    if(_line MATCHES "nlohmann/" AND NOT _f STREQUAL "core/io/json_document.h" AND NOT _f MATCHES "^apps/")
+      list(APPEND _errors "${_f}: includes nlohmann-json outside core/io/json_document.h")
+    endif()
+    if(_f MATCHES "^core/io/(path_policy|input_file|load_options)\\." AND _line MATCHES "\"core/io/"
+       AND NOT _line MATCHES "\"core/io/(path_policy|input_file|load_options)\\.h\"")
+      list(APPEND _errors "${_f}: the path policy includes a loader: ${_line}")
+    endif()
+    if(_f MATCHES "^core/" AND NOT _f MATCHES "^core/io/"
+       AND _line MATCHES "\"core/io/")
+      list(APPEND _errors "${_f}: core outside io/ includes a loader: ${_line}")
     endif()
     if(_f MATCHES "^core/" AND _line MATCHES "\"(accel|lights|shading)/")
       list(APPEND _errors "${_f}: core includes a higher layer: ${_line}")

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <string>
 
+#include "core/scene_range.h"
+
 namespace penumbra {
 namespace {
 
@@ -95,6 +97,7 @@ SceneFixups Scene::finalize(const Logger& log) {
                !std::isfinite(d.radius) || !(d.radius > 0.f);
     });
     for (auto& d : disks) d.normal = normalize(d.normal);
+    const RangeDrops beyond = dropBeyondSceneRange(*this);  // the same scene for every accelerator
 
     // Material ids out of range fall back to material 0.
     size_t badIds = 0;
@@ -122,6 +125,11 @@ SceneFixups Scene::finalize(const Logger& log) {
                  " triangle(s) with out-of-range indices, non-finite coordinates or zero area");
     if (fix.droppedShapes)
         log.warn("dropped " + std::to_string(fix.droppedShapes) + " shape(s) with non-finite or degenerate parameters");
+    if (beyond.shapes || beyond.triangles)
+        log.warn("dropped " + std::to_string(beyond.shapes) + " shape(s) and " + std::to_string(beyond.triangles) +
+                 " triangle(s) reaching beyond +-1.8e18, the largest coordinate the accelerators represent");
+    fix.droppedShapes += beyond.shapes;
+    fix.droppedTriangles += beyond.triangles;
     if (badIds) log.warn(std::to_string(badIds) + " material reference(s) out of range; using material 0");
     return fix;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@
 #include "core/shapes.h"
 
 namespace penumbra {
+
+class InputFile;  // core/io/input_file.h
 
 /// Isotropic point light: intensity I (W/sr per channel); irradiance I cos / d^2.
 struct PointLight {
@@ -48,6 +51,9 @@ public:
     std::vector<PointLight> pointLights;
     std::vector<DirectionalLight> directionalLights;
     std::vector<std::string> textures;  // resolved image paths, indexed by Material::diffuseTexture
+    /// The loaders' open texture files, same index as `textures` (read these, never reopen the path);
+    /// missing or null entries (scenes built in code) are opened by path. /work/notes/texture-fd.md
+    std::vector<std::shared_ptr<const InputFile>> textureFiles;
     Rgb ambient{0.f};                   // global ambient light La
     Rgb background{0.f};                // radiance of rays that leave the scene
 

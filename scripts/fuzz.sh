@@ -14,6 +14,11 @@ shift || true
 targets=("$@")
 [[ ${#targets[@]} -gt 0 ]] || targets=(fuzz_obj fuzz_json)
 [[ "$seconds" =~ ^[0-9]+$ ]] || { echo "fuzz.sh: SECONDS must be a whole number, got '$seconds'" >&2; exit 2; }
+# Inputs up to 1 MiB reach the loaders' size paths: faces beyond 255 and 512
+# corners with v/vt/vn indices, objects past 16 keys (hashed duplicate check)
+# with real bodies, pointers longer than the 240-byte cut, arrays of thousands
+# (the seeds in tests/fuzz/corpus_* include such files; 16 KiB reached few).
+max_len=${PENUMBRA_FUZZ_MAX_LEN:-1048576}
 
 if ! command -v clang++ >/dev/null; then
   echo "fuzz.sh: clang++ not found (scripts/setup.sh installs clang and libclang-rt-14-dev)" >&2
@@ -38,7 +43,7 @@ for t in "${targets[@]}"; do
      "$bin" "$work" "tests/fuzz/corpus_$kind" \
        -dict="tests/fuzz/$kind.dict" \
        -max_total_time="$seconds" \
-       -timeout=10 -rss_limit_mb=2048 -max_len=16384 \
+       -timeout=10 -rss_limit_mb=2048 -max_len="$max_len" \
        -artifact_prefix="$artifacts/" -print_final_stats=1 \
        > "build-fuzz/$t.log" 2>&1; then
     grep -E "^(#[0-9]+.*DONE|stat::number_of_executed_units|stat::peak_rss_mb)" "build-fuzz/$t.log" || true

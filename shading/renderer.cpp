@@ -8,6 +8,7 @@
 
 #include "core/denormals.h"
 #include "core/error.h"
+#include "core/io/input_file.h"
 #include "core/multi_jitter.h"
 #include "core/parallel.h"
 #include "core/texture_cache.h"
@@ -26,7 +27,13 @@ PreparedScene::PreparedScene(Scene scene, const PrepareOptions& options, const L
     fixups_ = scene_.finalize(log);
     accel_ = makeAccelerator(options.accelerator, scene_, options.quality);
     lights_ = std::make_unique<LightSet>(scene_);
-    if (!scene_.textures.empty()) textures_ = std::make_unique<TextureCache>(scene_.textures, log);
+    if (!scene_.textures.empty()) {
+        // Textures are read from the files the loader opened right after its path check, never
+        // reopened by name (a file swapped in since then is not read).
+        std::vector<int> textureFds;
+        for (const auto& file : scene_.textureFiles) textureFds.push_back(file ? file->fd() : -1);
+        textures_ = std::make_unique<TextureCache>(scene_.textures, log, textureFds);
+    }
     buildSeconds_ = secondsSince(t0);
 }
 

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/scene_loader.h"
+#include "core/io/scene_loader.h"
 
 namespace penumbra::bench {
 namespace {

@@ -122,7 +122,9 @@ void precheck(const Options& o) {
     pnb::Scene probe;
     applyLightOptions(o, probe);
     std::error_code ec;
-    if (!fs::exists(o.scene, ec)) throw Error(ErrorCode::FileNotFound, o.scene.string() + ": no such file");
+    // symlink_status: a symlink loop or a FIFO exists, and the loader says what it is.
+    if (fs::symlink_status(o.scene, ec).type() == fs::file_type::not_found)
+        throw Error(ErrorCode::FileNotFound, o.scene.string() + ": no such file");
     const std::vector<OutputFile> outputs = outputsOf(o);
     for (size_t i = 0; i < outputs.size(); ++i) {
         refuseOverwrite(outputs[i], o.scene, "the scene file");

@@ -25,6 +25,7 @@
 #include "core/sampling.h"
 #include "core/scene.h"
 #include "core/transform.h"
+#include "support/both_accelerators.h"
 
 namespace penumbra {
 namespace {
@@ -380,14 +381,17 @@ TEST(AcceleratorAgreementTest, AgreementHoldsWithoutFlushToZeroAndForEveryBuildQ
 // ---------------------------------------------------------------- watertightness
 
 struct WatertightCount {
-    size_t rays = 0, naiveHits = 0, embreeHits = 0;
+    size_t rays = 0, hits = 0;
 };
 
-void shoot(const Accelerator& naive, const Accelerator& embree, const Ray& r, WatertightCount& c) {
+void shoot(const Accelerator& acc, const Ray& r, WatertightCount& c) {
     ++c.rays;
-    c.naiveHits += naive.intersectPrim(r) ? 1 : 0;
-    c.embreeHits += embree.intersectPrim(r) ? 1 : 0;
+    c.hits += acc.intersectPrim(r) ? 1 : 0;
 }
+
+// Watertightness and batching hold for each accelerator on its own.
+class EachAcceleratorWatertight : public test::ForBothAccelerators {};
+class EachAcceleratorBatch : public test::ForBothAccelerators {};
 
 // A ray from outside towards `target` on the surface, arriving from the
 // random outward direction w, which must satisfy `entering` so that the ray
@@ -402,15 +406,14 @@ Ray rayFromOutside(const Vec3f& target, Entering entering, Rng& rng) {
     return Ray{o, normalize(target - o), 0.f, kInfinity};
 }
 
-TEST(AcceleratorWatertightTest, RaysAtSharedEdgesAndVerticesOfAnIcosphereAlwaysHit) {
+TEST_P(EachAcceleratorWatertight, RaysAtSharedEdgesAndVerticesOfAnIcosphereAlwaysHit) {
     FlushDenormalsScope ftz;
     const Vec3f center{0.3f, -0.2f, 0.1f};
     Scene scene;
     scene.meshes.push_back(makeIcosphere(center, 2.f, 2));
     scene.finalize(quietLogger());
     ASSERT_EQ(scene.triangleCount(), 320u);
-    auto naive = makeNaiveAccelerator(scene);
-    auto embree = makeEmbreeAccelerator(scene);
+    const auto acc = makeAccelerator(GetParam(), scene);
     const TriangleMesh& m = scene.meshes[0];
 
     // Targets: every vertex, and points along every edge (each edge once).
@@ -425,27 +428,25 @@ TEST(AcceleratorWatertightTest, RaysAtSharedEdgesAndVerticesOfAnIcosphereAlwaysH
     Rng rng(3);
     WatertightCount c;
     for (const Vec3f& target : targets) {
-        shoot(*naive, *embree, Ray{center, target - center, 0.f, kInfinity}, c);  // from inside
+        shoot(*acc, Ray{center, target - center, 0.f, kInfinity}, c);  // from inside
         const Vec3f n = normalize(target - center);
         // Within about 70 degrees of the radial direction; the faces around a
         // vertex tilt only about 10 degrees away from the tangent plane.
         auto entering = [&](const Vec3f& w) { return dot(w, n) > 0.35f; };
-        for (int k = 0; k < 8; ++k) shoot(*naive, *embree, rayFromOutside(target, entering, rng), c);
+        for (int k = 0; k < 8; ++k) shoot(*acc, rayFromOutside(target, entering, rng), c);
     }
-    std::cout << "[watertight] icosphere: " << c.rays << " rays at edges/vertices, naive hits " << c.naiveHits
-              << ", embree hits " << c.embreeHits << "\n";
+    std::cout << "[watertight] icosphere: " << c.rays << " rays at edges/vertices, " << acc->name() << " hits " << c.hits
+              << "\n";
     EXPECT_GT(c.rays, 4000u);
-    EXPECT_EQ(c.naiveHits, c.rays);
-    EXPECT_EQ(c.embreeHits, c.rays);
+    EXPECT_EQ(c.hits, c.rays);
 }
 
-TEST(AcceleratorWatertightTest, RaysAtTheDiagonalsEdgesAndCornersOfATriangleCubeAlwaysHit) {
+TEST_P(EachAcceleratorWatertight, RaysAtTheDiagonalsEdgesAndCornersOfATriangleCubeAlwaysHit) {
     FlushDenormalsScope ftz;
     Scene scene;
     scene.meshes.push_back(makeTriangleCube({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}));
     scene.finalize(quietLogger());
-    auto naive = makeNaiveAccelerator(scene);
-    auto embree = makeEmbreeAccelerator(scene);
+    const auto acc = makeAccelerator(GetParam(), scene);
     const TriangleMesh& m = scene.meshes[0];
 
     // The face diagonals are the edges shared inside each face; the cube's
@@ -460,7 +461,7 @@ TEST(AcceleratorWatertightTest, RaysAtTheDiagonalsEdgesAndCornersOfATriangleCube
     Rng rng(9);
     WatertightCount c;
     for (const Vec3f& target : targets) {
-        shoot(*naive, *embree, Ray{{0.f, 0.f, 0.f}, target, 0.f, kInfinity}, c);  // from the centre
+        shoot(*acc, Ray{{0.f, 0.f, 0.f}, target, 0.f, kInfinity}, c);  // from the centre
         // Arrive from outside every face the point lies on (all three at a
         // corner, two on a cube edge, one on a face diagonal).
         auto entering = [&](const Vec3f& w) {
@@ -468,25 +469,23 @@ TEST(AcceleratorWatertightTest, RaysAtTheDiagonalsEdgesAndCornersOfATriangleCube
                 if (std::fabs(target[i]) == 1.f && !(w[i] * target[i] > 0.25f)) return false;
             return true;
         };
-        for (int k = 0; k < 8; ++k) shoot(*naive, *embree, rayFromOutside(target, entering, rng), c);
+        for (int k = 0; k < 8; ++k) shoot(*acc, rayFromOutside(target, entering, rng), c);
         // Axis-aligned rays straight down onto the points inside the top face.
         if (target.y == 1.f && std::fabs(target.x) < 1.f && std::fabs(target.z) < 1.f)
-            shoot(*naive, *embree, Ray{target + Vec3f{0.f, 3.f, 0.f}, {0.f, -1.f, 0.f}, 0.f, kInfinity}, c);
+            shoot(*acc, Ray{target + Vec3f{0.f, 3.f, 0.f}, {0.f, -1.f, 0.f}, 0.f, kInfinity}, c);
     }
-    std::cout << "[watertight] cube: " << c.rays << " rays at edges/corners, naive hits " << c.naiveHits
-              << ", embree hits " << c.embreeHits << "\n";
+    std::cout << "[watertight] cube: " << c.rays << " rays at edges/corners, " << acc->name() << " hits " << c.hits
+              << "\n";
     EXPECT_GT(c.rays, 2000u);
-    EXPECT_EQ(c.naiveHits, c.rays);
-    EXPECT_EQ(c.embreeHits, c.rays);
+    EXPECT_EQ(c.hits, c.rays);
 }
 
 // Packets (intersectPrimBatch / occludedBatch, 16, 8, 4 and 1 lanes) give the
 // answers of the single-ray queries, invalid rays included.
-TEST(AcceleratorBatchTest, BatchedQueriesMatchSingleRays) {
+TEST_P(EachAcceleratorBatch, BatchedQueriesMatchSingleRays) {
     FlushDenormalsScope ftz;
     const Scene scene = makeRandomScene(3);
-    auto embree = makeEmbreeAccelerator(scene);
-    auto naive = makeNaiveAccelerator(scene);
+    const auto acc = makeAccelerator(GetParam(), scene);
     Rng rng(5);
     std::vector<Ray> rays = cameraRays(120, 100, {0.f, 3.f, 28.f}, {0.f, 0.f, 0.f}, rng);
     const std::vector<Ray> random = randomRays(8000, rng);
@@ -495,8 +494,8 @@ TEST(AcceleratorBatchTest, BatchedQueriesMatchSingleRays) {
     for (size_t i = 7; i < rays.size(); i += 997) rays[i].o.x = std::numeric_limits<float>::quiet_NaN();
     const size_t invalid = (rays.size() - 7 + 996) / 997;
 
-    for (const Accelerator* accel : {static_cast<const Accelerator*>(embree.get()),
-                                     static_cast<const Accelerator*>(naive.get())}) {
+    {
+        const Accelerator* accel = acc.get();
         std::vector<std::optional<PrimIntersection>> single(rays.size()), batch(rays.size());
         const uint64_t before = accel->invalidRayCount();
         for (size_t i = 0; i < rays.size(); ++i) single[i] = accel->intersectPrim(rays[i]);
@@ -539,6 +538,9 @@ TEST(AcceleratorBatchTest, BatchedQueriesMatchSingleRays) {
                   << " closest hits, " << sameOcc << "/" << shadow.size() << " occlusion answers identical\n";
     }
 }
+
+PENUMBRA_FOR_BOTH_ACCELERATORS(EachAcceleratorWatertight);
+PENUMBRA_FOR_BOTH_ACCELERATORS(EachAcceleratorBatch);
 
 }  // namespace
 }  // namespace penumbra

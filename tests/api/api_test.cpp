@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <mutex>
 #include <new>
 #include <penumbra/penumbra.hpp>
@@ -739,6 +740,44 @@ TEST(ApiLoad, PathsAreRestrictedToTheSceneFolderUnlessTheHostWidensThem) {
     pnb::LoadOptions open;
     open.restrictPaths = false;
     EXPECT_EQ(renderer.loadScene(scene.string(), open).triangleCount(), 1u);
+}
+
+// A texture checked when the scene is loaded is read from the file opened then:
+// swapping in a symlink to a file outside the scene's folder before prepare
+// (the render's texture read) changes nothing.
+TEST(ApiLoad, ATextureSwappedForASymlinkAfterLoadingIsNotReadThroughIt) {
+    const pnb::Renderer renderer = quietRenderer();
+    const auto dir = penumbra::test::tempDir();
+    std::filesystem::create_directories(dir / "scene");
+    std::filesystem::create_directories(dir / "outside");
+    // Two one-colour images: red inside the scene's folder, blue outside it.
+    auto flat = [&](pnb::Color c, const std::filesystem::path& path) {
+        pnb::Scene s;
+        s.addSphere({0, 0, -100}, 1.f, s.addMaterial(pnb::Material{}));
+        s.setBackground(c);
+        pnb::RenderSettings st;
+        st.width = st.height = 4;
+        st.spp = 1;
+        renderer.render(renderer.prepare(s), sphereCamera(), st).writeImage(path.string());
+    };
+    flat({1, 0, 0}, dir / "scene" / "tex.png");
+    flat({0, 0, 1}, dir / "outside" / "tex.png");
+    const auto scene = penumbra::test::writeFile(dir / "scene" / "s.json", R"({
+        "camera": { "eye": [0, 0, 3], "look_at": [0, 0, 0], "fov": 30 },
+        "materials": { "tex": { "kd": 1, "texture": "tex.png" } },
+        "shapes": [ { "type": "rectangle", "p0": [-1, -1, 0], "a": [2, 0, 0], "b": [0, 2, 0], "material": "tex" } ],
+        "lights": [ { "type": "point", "position": [0, 0, 3], "intensity": 9 } ]
+    })");
+    const pnb::Scene loaded = renderer.loadScene(scene.string());  // paths restricted (the default)
+    std::filesystem::remove(dir / "scene" / "tex.png");
+    std::filesystem::create_symlink(dir / "outside" / "tex.png", dir / "scene" / "tex.png");
+    pnb::RenderSettings st;
+    st.width = st.height = 8;
+    st.spp = 1;
+    const pnb::Framebuffer fb = renderer.render(renderer.prepare(loaded), *loaded.camera(), st);
+    const pnb::Color c = fb.pixel(4, 4);
+    EXPECT_GT(c.r, 0.1f);
+    EXPECT_EQ(c.b, 0.f) << "the render read the file outside the scene's folder";
 }
 
 TEST(ApiLog, MessagesGoToTheHostCallback) {

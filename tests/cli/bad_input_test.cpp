@@ -343,11 +343,11 @@ TEST_F(BadInput, ObjMissingMalformedOrUnknownMaterials) {
     auto w = expectSuccess(run(in("nomtl.obj") + " -q --width 8 --height 8 --spp 1" + out()));
     expectWarning(w, {"nothere.mtl", "not found"});
     expectFiniteImage();
-    // A library that is a directory reads as missing.
+    // A library that is a directory is skipped, and the warning says what it is (issue 13 item 10).
     fs::create_directories(dir_ / "dir.mtl");
     write("dirmtl.obj", "mtllib dir.mtl\n" + std::string(kQuad) + "f 1 2 3 4\n");
     w = expectSuccess(run(in("dirmtl.obj") + " -q --width 8 --height 8 --spp 1" + out()));
-    expectWarning(w, {"dir.mtl", "not found"});
+    expectWarning(w, {"dir.mtl", "is a directory"});
     // Malformed statements, an unknown key, an unknown illum and an unknown material name.
     write("odd.mtl", "newmtl red\nKd 1 0 0\nKs -1 nan 1e99\nNs abc\nillum 77\nfoo bar\n");
     write("odd.obj", "mtllib odd.mtl\n" + std::string(kQuad) + "usemtl red\nf 1 2 3\nusemtl blue\nf 1 3 4\n");

@@ -17,7 +17,7 @@
 
 #include "core/error.h"
 #include "core/scene.h"
-#include "core/scene_loader.h"
+#include "core/io/scene_loader.h"
 #include "core/transform.h"
 #include "support/test_support.h"
 

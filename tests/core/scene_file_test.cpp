@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/scene_loader.h"
+#include "core/io/scene_loader.h"
 #include "support/test_support.h"
 
 namespace penumbra {

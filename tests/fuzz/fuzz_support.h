@@ -14,7 +14,7 @@
 
 #include "core/log.h"
 #include "core/scene.h"
-#include "core/scene_loader.h"
+#include "core/io/scene_loader.h"
 
 namespace penumbra::fuzz {
 

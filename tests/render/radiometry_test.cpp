@@ -6,6 +6,7 @@
 #include "core/log.h"
 #include "shading/integrator.h"
 #include "shading/renderer.h"
+#include "support/both_accelerators.h"
 
 using namespace penumbra;
 
@@ -55,9 +56,19 @@ double lambertPolygonIrradiance(const Vec3f& x, const Vec3f& n, const std::vecto
     return std::fabs(0.5 * e);
 }
 
+// The closed forms hold whichever accelerator finds the hits.
+class Radiometry : public test::ForBothAccelerators {
+protected:
+    PrepareOptions prep() const {
+        PrepareOptions o;
+        o.accelerator = GetParam();
+        return o;
+    }
+};
+
 }  // namespace
 
-TEST(Radiometry, LambertianPlaneUnderRectangleMatchesLambertsFormula) {
+TEST_P(Radiometry, LambertianPlaneUnderRectangleMatchesLambertsFormula) {
     Scene s;
     uint32_t floor = addMaterial(s, diffuse(0.5f));
     uint32_t light = addMaterial(s, emitter(3.f));
@@ -66,7 +77,7 @@ TEST(Radiometry, LambertianPlaneUnderRectangleMatchesLambertsFormula) {
     Rectangle r{Vec3f{-0.5f, 1.f, -0.5f}, Vec3f{1, 0, 0}, Vec3f{0, 0, 1}, light};
     ASSERT_LT(rectangleNormal(r).y, 0.f);
     s.rectangles.push_back(r);
-    PreparedScene ps(std::move(s), {}, quietLogger());
+    PreparedScene ps(std::move(s), prep(), quietLogger());
     std::vector<Vec3f> poly{{-0.5f, 1, -0.5f}, {0.5f, 1, -0.5f}, {0.5f, 1, 0.5f}, {-0.5f, 1, 0.5f}};
     for (Vec3f x : {Vec3f{0, 0, 0}, Vec3f{0.4f, 0, 0.2f}, Vec3f{1.5f, 0, -0.7f}, Vec3f{3.f, 0, 0}}) {
         Ray ray{x + Vec3f{0.05f, 0.5f, 0}, normalize(Vec3f{-0.05f, -0.5f, 0}), 0.f, kInfinity};
@@ -78,14 +89,14 @@ TEST(Radiometry, LambertianPlaneUnderRectangleMatchesLambertsFormula) {
     }
 }
 
-TEST(Radiometry, ConvexDiffuseObjectInsideClosedEmitterReflectsKdTimesLe) {
+TEST_P(Radiometry, ConvexDiffuseObjectInsideClosedEmitterReflectsKdTimesLe) {
     // Furnace: a diffuse sphere inside a two-sided emissive sphere of radiance Le.
     Scene s;
     uint32_t inner = addMaterial(s, diffuse(0.6f));
     uint32_t shell = addMaterial(s, emitter(2.f, true));
     s.spheres.push_back(Sphere{Vec3f{0, 0, 0}, 1.f, inner});
     s.spheres.push_back(Sphere{Vec3f{0, 0, 0}, 10.f, shell});
-    PreparedScene ps(std::move(s), {}, quietLogger());
+    PreparedScene ps(std::move(s), prep(), quietLogger());
     for (Vec3f dir : {Vec3f{0, -1, 0}, normalize(Vec3f{1, -1, 0.5f}), normalize(Vec3f{-0.2f, 0.3f, -1.f})}) {
         Ray ray{-4.f * dir, dir, 0.f, kInfinity};
         Rgb L = radianceAlong(ps, ray, 4096);
@@ -93,7 +104,7 @@ TEST(Radiometry, ConvexDiffuseObjectInsideClosedEmitterReflectsKdTimesLe) {
     }
 }
 
-TEST(Radiometry, MirrorShowsKrTimesLeAndMaxDepthCutsReflectionsOff) {
+TEST_P(Radiometry, MirrorShowsKrTimesLeAndMaxDepthCutsReflectionsOff) {
     Scene s;
     Material mirror;
     mirror.kd = Rgb(0.f);
@@ -103,7 +114,7 @@ TEST(Radiometry, MirrorShowsKrTimesLeAndMaxDepthCutsReflectionsOff) {
     // Mirror plane y = 0 facing up; emitter disk at height 2 facing down.
     s.planes.push_back(Plane{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, true, mm});
     s.disks.push_back(Disk{Vec3f{0, 2, 0}, Vec3f{0, -1, 0}, 0.5f, light});
-    PreparedScene ps(std::move(s), {}, quietLogger());
+    PreparedScene ps(std::move(s), prep(), quietLogger());
     // A steep ray: it reflects at (0,0,0) and reaches the disk at (-0.2, 2, 0).
     Ray ray{Vec3f{0.1f, 1.f, 0}, normalize(Vec3f{-0.1f, -1.f, 0}), 0.f, kInfinity};
     Rgb L = radianceAlong(ps, ray, 16, 10);
@@ -114,7 +125,7 @@ TEST(Radiometry, MirrorShowsKrTimesLeAndMaxDepthCutsReflectionsOff) {
     EXPECT_EQ(cut.r, 0.f) << "max depth 0: no reflection rays, the mirror (kd 0) is black";
 }
 
-TEST(Radiometry, MaxDepthCountsBouncesExactly) {
+TEST_P(Radiometry, MaxDepthCountsBouncesExactly) {
     // A mirror wall at x = -1 facing +x and a two-sided emitter disk at x = 0:
     // a ray from between them towards the mirror sees the emitter after one bounce.
     Scene s;
@@ -125,13 +136,13 @@ TEST(Radiometry, MaxDepthCountsBouncesExactly) {
     uint32_t light = addMaterial(s, emitter(1.f, true));
     s.rectangles.push_back(Rectangle{Vec3f{-1, -10, -10}, Vec3f{0, 20, 0}, Vec3f{0, 0, 20}, mm});
     s.disks.push_back(Disk{Vec3f{0, 0, 0.5f}, Vec3f{1, 0, 0}, 0.2f, light});
-    PreparedScene ps(std::move(s), {}, quietLogger());
+    PreparedScene ps(std::move(s), prep(), quietLogger());
     Ray ray{Vec3f{-0.5f, 0, 0.5f}, Vec3f{-1, 0, 0}, 0.f, kInfinity};
     EXPECT_NEAR(radianceAlong(ps, ray, 4, 1).r, 0.5f, 1e-5f);
     EXPECT_EQ(radianceAlong(ps, ray, 4, 0).r, 0.f);
 }
 
-TEST(Radiometry, ClassicPointLightReproducesTheLectureFormula) {
+TEST_P(Radiometry, ClassicPointLightReproducesTheLectureFormula) {
     Scene s;
     Material m;
     m.kd = Rgb(0.5f);
@@ -143,7 +154,7 @@ TEST(Radiometry, ClassicPointLightReproducesTheLectureFormula) {
     s.planes.push_back(Plane{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, true, id});
     s.pointLights.push_back(PointLight{Vec3f{0, 2, 0}, Rgb(4.f)});
     s.ambient = Rgb(0.5f);
-    PreparedScene ps(std::move(s), {}, quietLogger());
+    PreparedScene ps(std::move(s), prep(), quietLogger());
     // Hit point x = (1, 0, 0) seen from eye (3, 1, 0).
     Vec3f x{1, 0, 0}, eye{3, 1, 0};
     Ray ray{eye, normalize(x - eye), 0.f, kInfinity};
@@ -156,12 +167,12 @@ TEST(Radiometry, ClassicPointLightReproducesTheLectureFormula) {
     EXPECT_NEAR(L.r, 0.1 + 0.357771 + 0.025770, 1e-5);
 }
 
-TEST(Radiometry, EmitterIsOneSidedUnlessMarkedTwoSided) {
+TEST_P(Radiometry, EmitterIsOneSidedUnlessMarkedTwoSided) {
     for (bool twoSided : {false, true}) {
         Scene s;
         uint32_t light = addMaterial(s, emitter(2.f, twoSided));
         s.rectangles.push_back(Rectangle{Vec3f{-1, 0, -1}, Vec3f{2, 0, 0}, Vec3f{0, 0, 2}, light});  // faces -y
-        PreparedScene ps(std::move(s), {}, quietLogger());
+        PreparedScene ps(std::move(s), prep(), quietLogger());
         Rgb below = radianceAlong(ps, Ray{Vec3f{0, -1, 0}, Vec3f{0, 1, 0}, 0.f, kInfinity}, 1);
         Rgb above = radianceAlong(ps, Ray{Vec3f{0, 1, 0}, Vec3f{0, -1, 0}, 0.f, kInfinity}, 1);
         EXPECT_EQ(below.r, 2.f);
@@ -169,10 +180,12 @@ TEST(Radiometry, EmitterIsOneSidedUnlessMarkedTwoSided) {
     }
 }
 
-TEST(Radiometry, BackgroundForRaysThatLeaveTheScene) {
+TEST_P(Radiometry, BackgroundForRaysThatLeaveTheScene) {
     Scene s;
     s.background = Rgb(0.15f);
-    PreparedScene ps(std::move(s), {}, quietLogger());
+    PreparedScene ps(std::move(s), prep(), quietLogger());
     Rgb L = radianceAlong(ps, Ray{Vec3f{0, 0, 0}, Vec3f{0, 0, -1}, 0.f, kInfinity}, 1);
     EXPECT_EQ(L.r, 0.15f);
 }
+
+PENUMBRA_FOR_BOTH_ACCELERATORS(Radiometry);

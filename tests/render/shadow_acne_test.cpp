@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
 
 #include "core/log.h"
 #include "shading/renderer.h"
+#include "support/both_accelerators.h"
 
 using namespace penumbra;
 
@@ -34,7 +36,7 @@ PixelStats stats(const Film& f) {
 // every axis) around `centre`, lit by a directional light; the camera looks
 // straight at it so every pixel sees the plane. With no occluder the radiance
 // is the same everywhere: kd/pi * E * cos.
-Film renderPlane(const Vec3f& centre, ShapeKind kind) {
+Film renderPlane(const Vec3f& centre, ShapeKind kind, const std::string& accelerator) {
     Scene s;
     Material m;
     m.kd = Rgb(0.8f);
@@ -56,7 +58,9 @@ Film renderPlane(const Vec3f& centre, ShapeKind kind) {
         s.meshes.push_back(mesh);
     }
     s.directionalLights.push_back(DirectionalLight{-normalize(Vec3f{0.5f, 1.f, -0.3f}), Rgb(2.f)});
-    PreparedScene ps(std::move(s), {}, quietLogger());
+    PrepareOptions prep;
+    prep.accelerator = accelerator;
+    PreparedScene ps(std::move(s), prep, quietLogger());
     CameraDesc cam;
     cam.eye = centre + 60.f * normalize(Vec3f{0.1f, 1.f, 0.5f});
     cam.lookAt = centre;
@@ -72,12 +76,15 @@ Film renderPlane(const Vec3f& centre, ShapeKind kind) {
 
 }  // namespace
 
-TEST(ShadowAcne, LitPlaneFarFromTheOriginHasNoSpeckles) {
+// No acne whichever accelerator finds the hits.
+class ShadowAcne : public test::ForBothAccelerators {};
+
+TEST_P(ShadowAcne, LitPlaneFarFromTheOriginHasNoSpeckles) {
     const Vec3f n = normalize(Vec3f{0.3f, 1.f, 0.2f});
     const float expected = 0.8f / kPi * 2.f * dot(n, normalize(Vec3f{0.5f, 1.f, -0.3f}));
     for (ShapeKind kind : {ShapeKind::Plane, ShapeKind::Mesh}) {
         for (Vec3f centre : {Vec3f{0, 0, 0}, Vec3f{1e4f, 1e4f, -1e4f}, Vec3f{-2.3e4f, 1.7e4f, 3.1e4f}}) {
-            PixelStats st = stats(renderPlane(centre, kind));
+            PixelStats st = stats(renderPlane(centre, kind, GetParam()));
             SCOPED_TRACE(std::string(kind == ShapeKind::Plane ? "plane" : "mesh") + " at " + std::to_string(centre.x));
             // Every pixel lit: one speckle (a self-shadowed pixel) would pull the minimum to 0.
             EXPECT_NEAR(st.min, expected, 1e-3f * expected);
@@ -86,3 +93,5 @@ TEST(ShadowAcne, LitPlaneFarFromTheOriginHasNoSpeckles) {
         }
     }
 }
+
+PENUMBRA_FOR_BOTH_ACCELERATORS(ShadowAcne);

@@ -59,13 +59,6 @@ std::optional<PrimHit> intersect(const Sphere& s, const Ray& r) {
     return std::nullopt;
 }
 
-std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
-    if (!p.twoSided && dot(r.d, p.normal) >= 0.f) return std::nullopt;
-    auto t = planeT(p.point, p.normal, r);
-    if (!t || !inRange(*t, r)) return std::nullopt;
-    return PrimHit{*t, 0.f, 0.f};
-}
-
 std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
     // Slab test in object space. The direction is transformed but not
     // normalised, so t is the same parameter in both spaces.

@@ -69,7 +69,15 @@ struct Disk {
 };
 
 std::optional<PrimHit> intersect(const Sphere& s, const Ray& r);
-std::optional<PrimHit> intersect(const Plane& p, const Ray& r);
+/// Inline: the accelerators test every plane against every ray.
+inline std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
+    const float denom = dot(r.d, p.normal);
+    if (!p.twoSided && denom >= 0.f) return std::nullopt;
+    if (!(std::fabs(denom) > 0.f)) return std::nullopt;
+    const float t = dot(p.point - r.o, p.normal) / denom;
+    if (!std::isfinite(t) || !(t > r.tnear && t <= r.tfar)) return std::nullopt;
+    return PrimHit{t, 0.f, 0.f};
+}
 std::optional<PrimHit> intersect(const Box& b, const Ray& r);
 std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r);
 std::optional<PrimHit> intersect(const Disk& d, const Ray& r);

@@ -56,7 +56,7 @@ timed() {
     { echo "bench_anchors.sh: failed: $*" >&2; cat "$tmp/err.txt" >&2; exit 1; }
   read -r wall user sys rss < "$tmp/time.txt"
   local st=null
-  [[ -s "$stats" ]] && st=$(cat "$stats")
+  [[ -s "$stats" ]] && st=$(python3 -c 'import json, sys; print(json.dumps(json.load(open(sys.argv[1]))))' "$stats")
   printf '{"name":"%s","kind":"%s","wall":%s,"user":%s,"sys":%s,"max_rss_kib":%s,"stats":%s}\n' \
     "$name" "$kind" "$wall" "$user" "$sys" "$rss" "$st" >> "$runs"
   echo "  $name [$kind] wall ${wall}s user ${user}s sys ${sys}s rss ${rss}KiB" >&2
@@ -84,7 +84,7 @@ declare -a cfg_name cfg_pov cfg_pen
 cfg_name+=(noaa_n8); cfg_pov+=("-A Declare=N=8 Declare=ADAPT=-1"); cfg_pen+=("--spp 1 --light-samples 64")
 cfg_name+=(noaa_n4); cfg_pov+=("-A Declare=N=4 Declare=ADAPT=-1"); cfg_pen+=("--spp 1 --light-samples 16")
 cfg_name+=(aa3_n4); cfg_pov+=("+A0.0 +AM1 +R3 Declare=N=4 Declare=ADAPT=-1"); cfg_pen+=("--spp 16 --light-samples 16")
-cfg_name+=(aa3_n8); cfg_pov+=("+A0.0 +AM1 +R3 Declare=N=8 Declare=ADAPT=-1"); cfg_pen+=("--spp 9 --light-samples 64")
+# (POV-Ray AA 3x3 with 8x8 against --spp 9 --light-samples 64 is left out: it alone would take minutes.)
 pov_version=null
 if command -v povray > /dev/null; then
   pov_version="\"$(povray --version 2>&1 | head -1 | tr -d '"')\""

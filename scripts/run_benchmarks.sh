@@ -11,6 +11,6 @@ cd "$here"
   --scene "$shared/bench/textbook_fig18_04.json" --scene "$shared/bench/textbook_fig24_06.json" \
   --scene "$shared/bench/room.json" \
   --json docs/bench_rays.json --plot docs/bench_rays.png "$@" | tee docs/bench_rays.txt
-"$here/scripts/bench_anchors.sh" --out docs/bench_anchors.json 2>&1 | tee docs/bench_anchors.txt
+"$here/scripts/bench_anchors.sh" --pairs 3 --reps 3 --out docs/bench_anchors.json 2>&1 | tee docs/bench_anchors.txt
 python3 "$here/scripts/make_benchmarks_doc.py"
 echo "docs/benchmarks.md regenerated"

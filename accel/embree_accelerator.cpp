@@ -14,8 +14,9 @@
 // test reports it; a box hit keeps PrimRef{Box, box, 0} and its face is found
 // when the hit is completed, as for the naive loop. Spheres and disks stay
 // user geometries whose callbacks call the very same core/shapes.h routines
-// as the naive loop: Embree 3's sphere primitive solves the quadratic in a
-// form that loses the hit point's precision on small, distant spheres.
+// as the naive loop (nothing native fits a disk; RTC_GEOMETRY_TYPE_SPHERE_POINT
+// would need its precision checked against the ray-offset rule of core/ray.h
+// on small, distant spheres first, which has not been done).
 //
 // Planes are infinite and have no bounding box a BVH could hold, so they stay
 // out of Embree and are tested analytically here, after the Embree closest-hit

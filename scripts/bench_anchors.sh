@@ -87,7 +87,7 @@ cfg_name+=(aa3_n4); cfg_pov+=("+A0.0 +AM1 +R3 Declare=N=4 Declare=ADAPT=-1"); cf
 # (POV-Ray AA 3x3 with 8x8 against --spp 9 --light-samples 64 is left out: it alone would take minutes.)
 pov_version=null
 if command -v povray > /dev/null; then
-  pov_version="\"$(povray --version 2>&1 | head -1 | tr -d '"')\""
+  pov_version="\"$(povray --version 2>&1 | grep -m1 '^POV-Ray' | tr -d '"')\""
   echo "POV-Ray / Penumbra on room, 2 threads each, $pairs interleaved pairs" >&2
   for c in "${!cfg_name[@]}"; do
     for i in $(seq 1 "$pairs"); do

@@ -1,15 +1,22 @@
 // The Embree BVH accelerator (Embree 3.13, the only Embree user in Penumbra).
 //
-// Geometry layout, attached by ID so hits map back without a lookup table:
-//   geomID 0..3   one user geometry per analytic kind (spheres, boxes,
-//                 rectangles, disks), primID = index in that Scene array
+// Geometry layout, attached by ID so hits map back to the Scene's arrays:
+//   geomID 0      spheres (user geometry), primID = index in Scene::spheres
+//   geomID 1      boxes as native quads, 6 per box; boxOfQuad_[primID] = box
+//   geomID 2      rectangles as native quads, primID = index in Scene::rectangles
+//   geomID 3      disks (user geometry), primID = index in Scene::disks
 //   geomID 4 + i  scene.meshes[i] as a native triangle mesh, primID = triangle
 //
-// Analytic shapes are user geometries whose callbacks call the very same
-// core/shapes.h intersect() routines as the naive loop. Embree's native
-// "sphere points" would be faster but are not exact spheres (they are
-// ray-facing discs or curve approximations depending on the type), so the
-// Embree and the naive accelerator would no longer agree on the reference.
+// Boxes and rectangles are planar polygons, so Embree's own quads answer
+// them exactly as the analytic tests do (up to rounding; the agreement tests
+// hold them to the naive loop), with Embree's SIMD code instead of a callback
+// per ray. A quad's (u, v) is the parallelogram's (s, t), as the rectangle
+// test reports it; a box hit keeps PrimRef{Box, box, 0} and its face is found
+// when the hit is completed, as for the naive loop. Spheres and disks stay
+// user geometries whose callbacks call the very same core/shapes.h routines
+// as the naive loop (nothing native fits a disk; RTC_GEOMETRY_TYPE_SPHERE_POINT
+// would need its precision checked against the ray-offset rule of core/ray.h
+// on small, distant spheres first, which has not been done).
 //
 // Planes are infinite and have no bounding box a BVH could hold, so they stay
 // out of Embree and are tested analytically here, after the Embree closest-hit
@@ -20,6 +27,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -44,18 +52,6 @@ struct ShapeTraits<Sphere> {
     static const std::vector<Sphere>& of(const Scene& s) { return s.spheres; }
 };
 template <>
-struct ShapeTraits<Box> {
-    static constexpr unsigned kGeomId = 1;
-    static constexpr ShapeKind kKind = ShapeKind::Box;
-    static const std::vector<Box>& of(const Scene& s) { return s.boxes; }
-};
-template <>
-struct ShapeTraits<Rectangle> {
-    static constexpr unsigned kGeomId = 2;
-    static constexpr ShapeKind kKind = ShapeKind::Rectangle;
-    static const std::vector<Rectangle>& of(const Scene& s) { return s.rectangles; }
-};
-template <>
 struct ShapeTraits<Disk> {
     static constexpr unsigned kGeomId = 3;
     static constexpr ShapeKind kKind = ShapeKind::Disk;
@@ -63,15 +59,9 @@ struct ShapeTraits<Disk> {
 };
 
 // Embree only uses the hit normal for its own filters; Penumbra recomputes
-// every normal in Scene::completeHit. These are cheap and unnormalised.
-Vec3f hitNormal(const Scene&, const Sphere& s, const Ray& r, const PrimHit& h) { return r.o + h.t * r.d - s.center; }
-Vec3f hitNormal(const Scene&, const Rectangle& q, const Ray&, const PrimHit&) { return cross(q.a, q.b); }
-Vec3f hitNormal(const Scene&, const Disk& d, const Ray&, const PrimHit&) { return d.normal; }
-Vec3f hitNormal(const Scene& scene, const Box& b, const Ray& r, const PrimHit& h) {
-    // The face is found from the hit point; reuse the one routine that does it.
-    const auto index = static_cast<uint32_t>(&b - scene.boxes.data());
-    return scene.completeHit(r, PrimRef{ShapeKind::Box, index, 0}, h.t, h.u, h.v).ng;
-}
+// every normal when it completes the hit. These are cheap and unnormalised.
+Vec3f hitNormal(const Sphere& s, const Ray& r, const PrimHit& h) { return r.o + h.t * r.d - s.center; }
+Vec3f hitNormal(const Disk& d, const Ray&, const PrimHit&) { return d.normal; }
 
 inline Ray rayFromN(RTCRayN* rays, unsigned n, unsigned i) {
     Ray r;
@@ -105,7 +95,6 @@ struct UserShapeCallbacks {
     }
 
     static void intersectFn(const RTCIntersectFunctionNArguments* args) {
-        const Scene& scene = *static_cast<const Scene*>(args->geometryUserPtr);
         const Shape& s = shape(args->geometryUserPtr, args->primID);
         const unsigned n = args->N;
         RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, n);
@@ -117,7 +106,7 @@ struct UserShapeCallbacks {
             const Ray r = rayFromN(rays, n, i);
             const auto h = intersect(s, r);
             if (!h) continue;
-            const Vec3f ng = hitNormal(scene, s, r, *h);
+            const Vec3f ng = hitNormal(s, r, *h);
             RTCRayN_tfar(rays, n, i) = h->t;
             RTCHitN_Ng_x(hits, n, i) = ng.x;
             RTCHitN_Ng_y(hits, n, i) = ng.y;
@@ -248,9 +237,10 @@ public:
     }
 
     // Maps an Embree hit back to the scene's arrays (geometries are attached by id).
-    static PrimRef refOf(unsigned geomID, unsigned primID) {
+    PrimRef refOf(unsigned geomID, unsigned primID) const {
         if (geomID >= kFirstMeshGeomId) return PrimRef{ShapeKind::Mesh, geomID - kFirstMeshGeomId, primID};
-        return PrimRef{kKindOfUserGeom[geomID], primID, 0};
+        if (geomID == kBoxGeomId) return PrimRef{ShapeKind::Box, boxOfQuad_[primID], 0};
+        return PrimRef{kKindOfGeom[geomID], primID, 0};
     }
 
     // Planes are tested outside Embree (see the top of this file): replaces
@@ -315,7 +305,7 @@ public:
                 if (acceptRay(rays[l])) {
                     // The open interval (tnear, tfar), as in occluded().
                     Ray r = rays[l];
-                    r.tfar = std::nextafter(r.tfar, -kInfinity);
+                    r.tfar = nextFloatDown(r.tfar);
                     if (r.tfar > r.tnear) {
                         bool plane = false;
                         for (const auto& p : scene_.planes)
@@ -353,7 +343,7 @@ public:
         // Occlusion is the open interval (tnear, tfar): every test here
         // accepts t <= tfar, so ask for the float just below tfar.
         Ray r = ray;
-        r.tfar = std::nextafter(ray.tfar, -kInfinity);
+        r.tfar = nextFloatDown(ray.tfar);
         if (!(r.tfar > r.tnear)) return false;
         for (const auto& p : scene_.planes)
             if (penumbra::intersect(p, r)) return true;
@@ -370,7 +360,8 @@ public:
     size_t memoryBytes() const override { return memoryAfterCommit_; }
 
 private:
-    static constexpr std::array<ShapeKind, 4> kKindOfUserGeom{ShapeKind::Sphere, ShapeKind::Box, ShapeKind::Rectangle,
+    static constexpr unsigned kBoxGeomId = 1, kRectangleGeomId = 2;
+    static constexpr std::array<ShapeKind, 4> kKindOfGeom{ShapeKind::Sphere, ShapeKind::Box, ShapeKind::Rectangle,
                                                              ShapeKind::Disk};
 
     static void errorCallback(void* userPtr, RTCError code, const char* str) {
@@ -395,7 +386,9 @@ private:
     }
 
     void build(RTCBuildQuality quality) {
-        device_ = EmbreeDevice(rtcNewDevice(nullptr));
+        // PENUMBRA_EMBREE_CONFIG, when set, is Embree's device configuration
+        // string (for instance "isa=avx2"): for measuring ISAs, not for use.
+        device_ = EmbreeDevice(rtcNewDevice(std::getenv("PENUMBRA_EMBREE_CONFIG")));
         if (!device_) {
             throw Error(ErrorCode::Embree,
                         std::string("Embree error during rtcNewDevice: ") + errorName(rtcGetDeviceError(nullptr)));
@@ -411,8 +404,8 @@ private:
         check("scene setup");
 
         addUserGeometry<Sphere>(quality);
-        addUserGeometry<Box>(quality);
-        addUserGeometry<Rectangle>(quality);
+        addBoxQuads(quality);
+        addRectangleQuads(quality);
         addUserGeometry<Disk>(quality);
         for (size_t i = 0; i < scene_.meshes.size(); ++i) addMesh(i, quality);
 
@@ -442,6 +435,62 @@ private:
         hasEmbreeGeometry_ = true;
     }
 
+    // A quad geometry from corner positions (4 per quad, in order around it).
+    void addQuads(const std::vector<Vec3f>& corners, unsigned geomId, RTCBuildQuality quality, const char* what) {
+        if (corners.empty()) return;
+        const size_t quads = corners.size() / 4;
+        EmbreeGeometry g(rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_QUAD));
+        check("rtcNewGeometry(quad)");
+        RTCGeometry geom = g.get();
+        // Embree's own buffers keep the padding its 16-byte vertex loads need.
+        auto* v = static_cast<float*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), corners.size()));
+        auto* idx = static_cast<uint32_t*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(uint32_t), quads));
+        check(what);
+        for (size_t i = 0; i < corners.size(); ++i) {
+            v[3 * i] = corners[i].x;
+            v[3 * i + 1] = corners[i].y;
+            v[3 * i + 2] = corners[i].z;
+            idx[i] = static_cast<uint32_t>(i);
+        }
+        rtcSetGeometryBuildQuality(geom, quality);
+        rtcCommitGeometry(geom);
+        check(what);
+        rtcAttachGeometryByID(rtcScene_.get(), geom, geomId);
+        check(what);
+        hasEmbreeGeometry_ = true;
+    }
+
+    // Each box as its six faces, corners transformed to world space (an
+    // affine map keeps every face a planar parallelogram).
+    void addBoxQuads(RTCBuildQuality quality) {
+        static constexpr int kFaces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                                             {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+        std::vector<Vec3f> corners;
+        for (size_t i = 0; i < scene_.boxes.size(); ++i) {
+            const Box& b = scene_.boxes[i];
+            if (b.lo.x > b.hi.x || b.lo.y > b.hi.y || b.lo.z > b.hi.z) continue;  // emptied by a singular transform
+            Vec3f c[8];
+            for (int k = 0; k < 8; ++k)
+                c[k] = b.worldFromObject.applyPoint(
+                    Vec3f{(k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z});
+            for (const auto& face : kFaces) {
+                for (int k : face) corners.push_back(c[k]);
+                boxOfQuad_.push_back(static_cast<uint32_t>(i));
+            }
+        }
+        addQuads(corners, kBoxGeomId, quality, "box quads setup");
+    }
+
+    // Each rectangle p0, p0 + a, p0 + a + b, p0 + b: Embree's quad (u, v) is then (s, t).
+    void addRectangleQuads(RTCBuildQuality quality) {
+        std::vector<Vec3f> corners;
+        for (const Rectangle& q : scene_.rectangles)
+            corners.insert(corners.end(), {q.p0, q.p0 + q.a, q.p0 + q.a + q.b, q.p0 + q.b});
+        addQuads(corners, kRectangleGeomId, quality, "rectangle quads setup");
+    }
+
     void addMesh(size_t index, RTCBuildQuality quality) {
         const TriangleMesh& m = scene_.meshes[index];
         EmbreeGeometry g(rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE));
@@ -468,6 +517,7 @@ private:
     std::atomic<int64_t> memoryBytes_{0};
     size_t memoryAfterCommit_ = 0;
     bool hasEmbreeGeometry_ = false;
+    std::vector<uint32_t> boxOfQuad_;  // box index of each box quad (primID)
 
     EmbreeDevice device_;
     EmbreeScene rtcScene_;

@@ -49,7 +49,7 @@ public:
         // Occlusion is the open interval (tnear, tfar); the shape tests accept
         // t <= tfar, and the float just below tfar turns that into t < tfar.
         Ray r = ray;
-        r.tfar = std::nextafter(ray.tfar, -kInfinity);
+        r.tfar = nextFloatDown(ray.tfar);
         const Scene& s = scene_;
         for (const auto& p : s.planes)
             if (penumbra::intersect(p, r)) return true;

@@ -15,4 +15,7 @@ function(penumbra_module name)
   # leaves libpenumbra.so (cmake/penumbra.map hides the rest, std templates included).
   set_target_properties(${name} PROPERTIES CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
   penumbra_warnings(${name})
+  # Calls between the library's own functions go direct (and may inline)
+  # instead of through the PLT: no host interposes Penumbra's internals.
+  target_compile_options(${name} PRIVATE -fno-semantic-interposition)
 endfunction()

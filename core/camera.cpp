@@ -30,14 +30,11 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
     halfHeight_ = std::tan(0.5f * desc.vfovDegrees * kPi / 180.f);
     halfWidth_ = halfHeight_ * static_cast<float>(width) / static_cast<float>(height);
     focus_ = desc.focusDistance > 0.f ? desc.focusDistance : length(desc.lookAt - desc.eye);
+    invWidth2_ = 2.f / static_cast<float>(width);
+    invHeight2_ = 2.f / static_cast<float>(height);
 }
 
-Ray Camera::generateRay(float px, float py, Vec2f uLens) const {
-    // Film coordinates in [-1, 1]; y grows downwards on the film, up in the world.
-    float sx = (2.f * px / static_cast<float>(width_) - 1.f) * halfWidth_;
-    float sy = (1.f - 2.f * py / static_cast<float>(height_)) * halfHeight_;
-    Vec3f dir = sx * u_ + sy * v_ - w_;
-    if (desc_.aperture <= 0.f) return Ray{desc_.eye, normalize(dir), 0.f, kInfinity};
+Ray Camera::lensRay(const Vec3f& dir, Vec2f uLens) const {
     // Thin lens: all rays through a film point meet on the focus plane.
     Vec3f focusPoint = desc_.eye + dir * focus_;
     Vec2f lens = squareToConcentricDisk(uLens);

@@ -26,16 +26,26 @@ public:
 
     /// Ray through film position (px, py) in pixels (continuous: pixel (x, y)
     /// covers [x, x+1) x [y, y+1)), with lens sample uLens in [0,1)^2.
-    Ray generateRay(float px, float py, Vec2f uLens) const;
+    Ray generateRay(float px, float py, Vec2f uLens) const {
+        // Film coordinates in [-1, 1]; y grows downwards on the film, up in the world.
+        const float sx = (px * invWidth2_ - 1.f) * halfWidth_;
+        const float sy = (1.f - py * invHeight2_) * halfHeight_;
+        const Vec3f dir = sx * u_ + sy * v_ - w_;
+        if (desc_.aperture <= 0.f) return Ray{desc_.eye, normalize(dir), 0.f, kInfinity};
+        return lensRay(dir, uLens);
+    }
 
     const CameraDesc& desc() const { return desc_; }
 
 private:
+    Ray lensRay(const Vec3f& dir, Vec2f uLens) const;
+
     CameraDesc desc_;
     Vec3f u_, v_, w_;  // camera frame: right, up, backwards
     float halfWidth_, halfHeight_;
     float focus_;
     int width_, height_;
+    float invWidth2_, invHeight2_;  // 2 / width, 2 / height
 };
 
 }  // namespace penumbra

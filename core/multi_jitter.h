@@ -7,6 +7,7 @@
 
 #include <cstdint>
 
+#include "core/hash.h"
 #include "core/math.h"
 
 namespace penumbra {
@@ -23,6 +24,31 @@ public:
 private:
     uint32_t n_ = 1, mask_ = 0, k0_ = 0, k1_ = 1, k2_ = 0;
 };
+
+inline uint32_t IndexPermutation::operator()(uint32_t i) const {
+    if (n_ <= 1) return 0;
+    // Each step is a bijection on [0, mask]: xor with a key, multiply by an
+    // odd number (mod 2^w), and xorshift-right. Cycle-walking keeps the
+    // result inside [0, n) while preserving bijectivity.
+    const uint32_t mask = mask_;
+    do {
+        i ^= k0_ & mask;
+        i = (i * k1_) & mask;
+        i ^= i >> 3;
+        i = (i * 0x2c1b3c6dU) & mask;
+        i ^= k2_ & mask;
+        i ^= i >> 7;
+        i = (i * 0x297a2d39U) & mask;
+        i ^= i >> 5;
+    } while (i >= n_);
+    return i;
+}
+
+namespace detail {
+// A hash of (i, p) to [0, 1), for the jitter within a cell.
+inline float jitter(uint32_t i, uint32_t p) { return toUnitFloat(mix64((uint64_t(p) << 32) ^ i ^ 0x5bd1e995ULL)); }
+
+}  // namespace detail
 
 /// Element i of the permutation of [0, n) with pattern p.
 inline uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t p) { return IndexPermutation(n, p)(i); }
@@ -50,11 +76,47 @@ private:
     IndexPermutation cols_, rows_;
 };
 
+inline Vec2f MultiJitterSet::sample(uint32_t s) const {
+    if (m_ * k_ != n_) s = cells_(s);
+    const uint32_t col = s % m_, row = s / m_;
+    const uint32_t sx = cols_(col);
+    const uint32_t sy = rows_(row);
+    const float jx = detail::jitter(s, pattern_ * 0xa399d265U);
+    const float jy = detail::jitter(s, pattern_ * 0x711ad6a5U);
+    Vec2f r{(static_cast<float>(col) + (static_cast<float>(sy) + jx) * invK_) * invM_,
+            (static_cast<float>(row) + (static_cast<float>(sx) + jy) * invM_) * invK_};
+    // Guard against rounding to exactly 1.
+    r.x = std::min(r.x, 0x1.fffffep-1f);
+    r.y = std::min(r.y, 0x1.fffffep-1f);
+    return r;
+}
+
 /// Sample s of the n-sample set with pattern p (builds the set; prefer
 /// MultiJitterSet when drawing several samples of one set).
 inline Vec2f multiJitter2D(uint32_t s, uint32_t n, uint32_t p) { return MultiJitterSet(n, p).sample(s); }
 
 /// Pattern id for one set of samples: scrambles per (seed, pixel, set, dimension).
 uint32_t mjPattern(uint64_t seed, uint64_t pixel, uint64_t set, uint64_t dimension);
+
+/// The renderer's sample keys. A pixel's key is a hash of (seed, pixel),
+/// computed once per pixel; every pattern and point of that pixel's camera
+/// samples is then one mix64 of (key, camera sample index, dimension), so the
+/// per-shading-point cost of a sample set is a hash, not a constructor.
+uint64_t pixelSampleKey(uint64_t seed, uint64_t pixel);
+
+/// Pattern id of the set that camera sample `set` of the pixel with key
+/// `pixelKey` uses in `dimension` (one mix64).
+inline uint32_t setPattern(uint64_t pixelKey, uint32_t set, uint32_t dimension) {
+    return static_cast<uint32_t>(mix64(pixelKey ^ ((uint64_t(set) << 32 | dimension) * 0x9e3779b97f4a7c15ULL)) >> 32);
+}
+
+/// The one-sample set of (pixelKey, set, dimension): a uniform point in
+/// [0,1)^2 from a single mix64 (24 bits per coordinate). A one-point
+/// multi-jittered set is exactly that, so no set is constructed for it.
+inline Vec2f hashPoint2D(uint64_t pixelKey, uint32_t set, uint32_t dimension) {
+    const uint64_t h = mix64(pixelKey ^ ((uint64_t(set) << 32 | dimension) * 0xd1b54a32d192ed03ULL));
+    return {static_cast<float>(h >> 40) * (1.f / 16777216.f),
+            static_cast<float>((h >> 8) & 0xffffffULL) * (1.f / 16777216.f)};
+}
 
 }  // namespace penumbra

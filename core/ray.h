@@ -1,6 +1,10 @@
 // Rays, ray validity, and THE rule for offsetting secondary rays.
 #pragma once
 
+#include <bit>
+#include <cstdint>
+#include <limits>
+
 #include "core/math.h"
 
 namespace penumbra {
@@ -13,6 +17,15 @@ struct Ray {
     float tnear = 0.f;
     float tfar = kInfinity;
 };
+
+/// The float just below x (std::nextafter(x, -inf) without the libm call):
+/// occlusion queries ask for the open interval (tnear, tfar) this way.
+inline float nextFloatDown(float x) {
+    if (std::isnan(x) || x == -kInfinity) return x;
+    if (x == 0.f) return -std::numeric_limits<float>::denorm_min();
+    const uint32_t bits = std::bit_cast<uint32_t>(x);
+    return std::bit_cast<float>(x > 0.f ? bits - 1u : bits + 1u);
+}
 
 /// Embree 3.13.5 (as Debian builds it) asserts on malformed rays and aborts the
 /// process. These are the conditions it checks; an invalid ray must be answered

@@ -156,96 +156,18 @@ size_t Scene::primitiveCount() const {
 }
 
 Hit Scene::completeHit(const Ray& ray, PrimRef ref, float t, float u, float v) const {
+    // Each shape completes its own hits beside its intersection test (core/shapes.cpp).
     Hit h;
+    switch (ref.kind) {
+        case ShapeKind::Mesh: h = completeTriangleHit(meshes[ref.object], ref.prim, u, v); break;
+        case ShapeKind::Sphere: h = penumbra::completeHit(spheres[ref.object], ray, t); break;
+        case ShapeKind::Plane: h = penumbra::completeHit(planes[ref.object], ray, t); break;
+        case ShapeKind::Box: h = penumbra::completeHit(boxes[ref.object], ray, t); break;
+        case ShapeKind::Rectangle: h = penumbra::completeHit(rectangles[ref.object], u, v); break;
+        case ShapeKind::Disk: h = penumbra::completeHit(disks[ref.object], u, v); break;
+    }
     h.t = t;
     h.ref = ref;
-    switch (ref.kind) {
-        case ShapeKind::Mesh: {
-            const TriangleMesh& m = meshes[ref.object];
-            const uint32_t* idx = &m.indices[3 * ref.prim];
-            const Vec3f &p0 = m.positions[idx[0]], &p1 = m.positions[idx[1]], &p2 = m.positions[idx[2]];
-            const float w = 1.f - u - v;
-            h.p = w * p0 + u * p1 + v * p2;
-            h.ng = normalize(cross(p1 - p0, p2 - p0));
-            h.ns = h.ng;
-            if (!m.normals.empty()) {
-                Vec3f n = normalize(w * m.normals[idx[0]] + u * m.normals[idx[1]] + v * m.normals[idx[2]]);
-                if (lengthSquared(n) > 0.f) h.ns = dot(n, h.ng) < 0.f ? -n : n;
-            }
-            if (!m.uvs.empty()) {
-                const Vec2f &a = m.uvs[idx[0]], &b = m.uvs[idx[1]], &c = m.uvs[idx[2]];
-                h.uv = {w * a.x + u * b.x + v * c.x, w * a.y + u * b.y + v * c.y};
-            } else {
-                h.uv = {u, v};
-            }
-            h.material = m.materialOf(ref.prim);
-            return h;
-        }
-        case ShapeKind::Sphere: {
-            const Sphere& s = spheres[ref.object];
-            Vec3f n = normalize(ray.o + t * ray.d - s.center);
-            // Re-project onto the surface: the error is then relative to the
-            // sphere's own coordinates, not to the distance travelled.
-            h.p = s.center + s.radius * n;
-            h.ng = h.ns = n;
-            h.uv = {std::atan2(n.z, n.x) * kInv2Pi + 0.5f, std::acos(std::clamp(n.y, -1.f, 1.f)) * kInvPi};
-            h.material = s.material;
-            return h;
-        }
-        case ShapeKind::Plane: {
-            const Plane& pl = planes[ref.object];
-            Vec3f p = ray.o + t * ray.d;
-            h.p = p - dot(p - pl.point, pl.normal) * pl.normal;
-            h.ng = h.ns = pl.normal;
-            Frame f = Frame::fromNormal(pl.normal);
-            Vec3f d = h.p - pl.point;
-            h.uv = {dot(d, f.s), dot(d, f.t)};
-            h.material = pl.material;
-            return h;
-        }
-        case ShapeKind::Box: {
-            const Box& b = boxes[ref.object];
-            Vec3f po = b.objectFromWorld.applyPoint(ray.o) + t * b.objectFromWorld.applyVector(ray.d);
-            // The face is the slab whose plane the point lies closest to
-            // (relative to the box size); snap the point onto it.
-            Vec3f ext = max(b.hi - b.lo, Vec3f(1e-30f));
-            int axis = 0;
-            bool upper = false;
-            float best = kInfinity;
-            for (int i = 0; i < 3; ++i) {
-                float dl = std::fabs(po[i] - b.lo[i]) / ext[i];
-                float dh = std::fabs(po[i] - b.hi[i]) / ext[i];
-                if (dl < best) { best = dl; axis = i; upper = false; }
-                if (dh < best) { best = dh; axis = i; upper = true; }
-            }
-            po[axis] = upper ? b.hi[axis] : b.lo[axis];
-            Vec3f no{};
-            no[axis] = upper ? 1.f : -1.f;
-            h.p = b.worldFromObject.applyPoint(po);
-            h.ng = h.ns = normalize(b.worldFromObject.applyNormal(no));
-            int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-            h.uv = {(po[a1] - b.lo[a1]) / ext[a1], (po[a2] - b.lo[a2]) / ext[a2]};
-            h.material = b.material;
-            return h;
-        }
-        case ShapeKind::Rectangle: {
-            const Rectangle& q = rectangles[ref.object];
-            h.p = q.p0 + u * q.a + v * q.b;
-            h.ng = h.ns = rectangleNormal(q);
-            h.uv = {u, v};
-            h.material = q.material;
-            return h;
-        }
-        case ShapeKind::Disk: {
-            const Disk& d = disks[ref.object];
-            Frame f = Frame::fromNormal(d.normal);
-            h.p = d.center + d.radius * (u * f.s + v * f.t);
-            h.ng = h.ns = d.normal;
-            h.uv = {0.5f + 0.5f * u, 0.5f + 0.5f * v};
-            h.material = d.material;
-            return h;
-        }
-    }
     return h;
 }
 

@@ -59,11 +59,28 @@ std::optional<PrimHit> intersect(const Sphere& s, const Ray& r) {
     return std::nullopt;
 }
 
-std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
-    if (!p.twoSided && dot(r.d, p.normal) >= 0.f) return std::nullopt;
-    auto t = planeT(p.point, p.normal, r);
-    if (!t || !inRange(*t, r)) return std::nullopt;
-    return PrimHit{*t, 0.f, 0.f};
+Hit completeHit(const Sphere& s, const Ray& ray, float t) {
+    Hit h;
+    const Vec3f n = normalize(ray.o + t * ray.d - s.center);
+    // Re-project onto the surface: the error is then relative to the
+    // sphere's own coordinates, not to the distance travelled.
+    h.p = s.center + s.radius * n;
+    h.ng = h.ns = n;
+    h.uv = {std::atan2(n.z, n.x) * kInv2Pi + 0.5f, std::acos(std::clamp(n.y, -1.f, 1.f)) * kInvPi};
+    h.material = s.material;
+    return h;
+}
+
+Hit completeHit(const Plane& pl, const Ray& ray, float t) {
+    Hit h;
+    const Vec3f p = ray.o + t * ray.d;
+    h.p = p - dot(p - pl.point, pl.normal) * pl.normal;
+    h.ng = h.ns = pl.normal;
+    const Frame f = Frame::fromNormal(pl.normal);
+    const Vec3f d = h.p - pl.point;
+    h.uv = {dot(d, f.s), dot(d, f.t)};
+    h.material = pl.material;
+    return h;
 }
 
 std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
@@ -92,6 +109,32 @@ std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
     return std::nullopt;
 }
 
+Hit completeHit(const Box& b, const Ray& ray, float t) {
+    Hit h;
+    Vec3f po = b.objectFromWorld.applyPoint(ray.o) + t * b.objectFromWorld.applyVector(ray.d);
+    // The face is the slab whose plane the point lies closest to (relative to
+    // the box size); snap the point onto it.
+    const Vec3f ext = max(b.hi - b.lo, Vec3f(1e-30f));
+    int axis = 0;
+    bool upper = false;
+    float best = kInfinity;
+    for (int i = 0; i < 3; ++i) {
+        const float dl = std::fabs(po[i] - b.lo[i]) / ext[i];
+        const float dh = std::fabs(po[i] - b.hi[i]) / ext[i];
+        if (dl < best) { best = dl; axis = i; upper = false; }
+        if (dh < best) { best = dh; axis = i; upper = true; }
+    }
+    po[axis] = upper ? b.hi[axis] : b.lo[axis];
+    Vec3f no{};
+    no[axis] = upper ? 1.f : -1.f;
+    h.p = b.worldFromObject.applyPoint(po);
+    h.ng = h.ns = normalize(b.worldFromObject.applyNormal(no));
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    h.uv = {(po[a1] - b.lo[a1]) / ext[a1], (po[a2] - b.lo[a2]) / ext[a2]};
+    h.material = b.material;
+    return h;
+}
+
 std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r) {
     Vec3f n = cross(q.a, q.b);
     float nn = dot(n, n);
@@ -106,6 +149,15 @@ std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r) {
     return PrimHit{*t, s, u};
 }
 
+Hit completeHit(const Rectangle& q, float u, float v) {
+    Hit h;
+    h.p = q.p0 + u * q.a + v * q.b;
+    h.ng = h.ns = rectangleNormal(q);
+    h.uv = {u, v};
+    h.material = q.material;
+    return h;
+}
+
 std::optional<PrimHit> intersect(const Disk& k, const Ray& r) {
     if (!(k.radius > 0.f)) return std::nullopt;
     auto t = planeT(k.center, k.normal, r);
@@ -114,6 +166,16 @@ std::optional<PrimHit> intersect(const Disk& k, const Ray& r) {
     if (dot(d, d) > k.radius * k.radius) return std::nullopt;
     Frame f = Frame::fromNormal(k.normal);
     return PrimHit{*t, dot(d, f.s) / k.radius, dot(d, f.t) / k.radius};
+}
+
+Hit completeHit(const Disk& d, float u, float v) {
+    Hit h;
+    const Frame f = Frame::fromNormal(d.normal);
+    h.p = d.center + d.radius * (u * f.s + v * f.t);
+    h.ng = h.ns = d.normal;
+    h.uv = {0.5f + 0.5f * u, 0.5f + 0.5f * v};
+    h.material = d.material;
+    return h;
 }
 
 std::optional<PrimHit> intersectTriangle(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, const Ray& r) {
@@ -154,6 +216,28 @@ std::optional<PrimHit> intersectTriangle(const Vec3f& p0, const Vec3f& p1, const
     float t = tScaled * invDet;
     if (!std::isfinite(t) || !inRange(t, r)) return std::nullopt;
     return PrimHit{t, e1 * invDet, e2 * invDet};
+}
+
+Hit completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v) {
+    Hit h;
+    const uint32_t* idx = &m.indices[3 * size_t(tri)];
+    const Vec3f &p0 = m.positions[idx[0]], &p1 = m.positions[idx[1]], &p2 = m.positions[idx[2]];
+    const float w = 1.f - u - v;
+    h.p = w * p0 + u * p1 + v * p2;
+    h.ng = normalize(cross(p1 - p0, p2 - p0));
+    h.ns = h.ng;
+    if (!m.normals.empty()) {
+        const Vec3f n = normalize(w * m.normals[idx[0]] + u * m.normals[idx[1]] + v * m.normals[idx[2]]);
+        if (lengthSquared(n) > 0.f) h.ns = dot(n, h.ng) < 0.f ? -n : n;
+    }
+    if (!m.uvs.empty()) {
+        const Vec2f &a = m.uvs[idx[0]], &b = m.uvs[idx[1]], &c = m.uvs[idx[2]];
+        h.uv = {w * a.x + u * b.x + v * c.x, w * a.y + u * b.y + v * c.y};
+    } else {
+        h.uv = {u, v};
+    }
+    h.material = m.materialOf(tri);
+    return h;
 }
 
 Bounds3f bounds(const Sphere& s) {

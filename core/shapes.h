@@ -9,7 +9,9 @@
 #include <cstdint>
 #include <optional>
 
+#include "core/hit.h"
 #include "core/math.h"
+#include "core/mesh.h"
 #include "core/ray.h"
 #include "core/transform.h"
 
@@ -69,10 +71,31 @@ struct Disk {
 };
 
 std::optional<PrimHit> intersect(const Sphere& s, const Ray& r);
-std::optional<PrimHit> intersect(const Plane& p, const Ray& r);
+/// Inline: the accelerators test every plane against every ray.
+inline std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
+    const float denom = dot(r.d, p.normal);
+    if (!p.twoSided && denom >= 0.f) return std::nullopt;
+    if (!(std::fabs(denom) > 0.f)) return std::nullopt;
+    const float t = dot(p.point - r.o, p.normal) / denom;
+    if (!std::isfinite(t) || !(t > r.tnear && t <= r.tfar)) return std::nullopt;
+    return PrimHit{t, 0.f, 0.f};
+}
 std::optional<PrimHit> intersect(const Box& b, const Ray& r);
 std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r);
 std::optional<PrimHit> intersect(const Disk& d, const Ray& r);
+
+/// Hit completion, beside each intersection test: the surface data (point,
+/// normals, uv, material) of a hit at distance t with the test's (u, v).
+/// Points come from the surface's own parametrisation (see core/ray.h), not
+/// from o + t d. Scene::completeHit dispatches to these and sets t and ref.
+Hit completeHit(const Sphere& s, const Ray& r, float t);
+Hit completeHit(const Plane& p, const Ray& r, float t);
+Hit completeHit(const Box& b, const Ray& r, float t);
+Hit completeHit(const Rectangle& q, float u, float v);
+Hit completeHit(const Disk& d, float u, float v);
+/// Triangle `tri` of a mesh at barycentrics (u, v): interpolated point, smooth
+/// normal (when the mesh has normals) and uv.
+Hit completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v);
 
 /// Watertight ray/triangle test (Woop, Benthin & Wald 2013): rays through a
 /// shared edge or vertex hit at least one of the triangles sharing it.

@@ -39,13 +39,27 @@ ShapeAreaLight::ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index) : 
     }
     Le_ = scene.materials[mat].ke;
     twoSided_ = scene.materials[mat].twoSidedEmission;
+    pdfArea_ = 1.f / area_;
+    if (kind == Kind::Rectangle) frame_.n = rectangleNormal(scene.rectangles[index]);
+    if (kind == Kind::Disk) frame_ = Frame::fromNormal(scene.disks[index].normal);
 }
 
 std::optional<LightSample> ShapeAreaLight::sample(const Vec3f& p, Vec2f u) const {
+    // The same points as sampleUniform(shape, u), with the normal, frame and
+    // pdf taken from the constructor.
     SurfaceSample s{};
     switch (kind_) {
-        case Kind::Rectangle: s = sampleUniform(scene_.rectangles[index_], u); break;
-        case Kind::Disk: s = sampleUniform(scene_.disks[index_], u); break;
+        case Kind::Rectangle: {
+            const Rectangle& q = scene_.rectangles[index_];
+            s = {q.p0 + u.x * q.a + u.y * q.b, frame_.n, pdfArea_};
+            break;
+        }
+        case Kind::Disk: {
+            const Disk& d = scene_.disks[index_];
+            const Vec2f c = squareToConcentricDisk(u);
+            s = {d.center + d.radius * (c.x * frame_.s + c.y * frame_.t), d.normal, pdfArea_};
+            break;
+        }
         case Kind::Sphere: s = sampleUniform(scene_.spheres[index_], u); break;
     }
     return areaLightSample(p, s, Le_, twoSided_);

@@ -30,6 +30,10 @@ private:
     Rgb Le_;
     bool twoSided_;
     float area_;
+    // Computed once, not per sample: the emitter's unit normal (rectangles)
+    // or frame (disks) and the area pdf.
+    Frame frame_;
+    float pdfArea_;
 };
 
 /// The emissive triangles of one mesh that share one material.

@@ -32,120 +32,227 @@ Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLengt
     return m.kd * textures_->lookup(m.diffuseTexture, hit.uv, footprint);
 }
 
-Rgb Integrator::directLight(const Hit& hit, const Material& m, const Rgb& kd, const Vec3f& ng, const Vec3f& ns,
-                            const Vec3f& wo, const SampleKey& key, int depth, RayCounts& counts) const {
-    const size_t nLights = lights_.size();
-    if (nLights == 0) return {};
-    if (kd.isBlack() && m.ks.isBlack()) return {};
-    const uint32_t n = static_cast<uint32_t>(settings_.lightSamples);
-    const uint64_t dimBase = kFirstLightDimension + uint64_t(depth) * (nLights + 1);
+ShadingPoint Integrator::shadingPoint(const Hit& hit, const Ray& ray, float pathLength) const {
+    ShadingPoint sp;
+    sp.material = &scene_.material(hit.material);
+    sp.p = hit.p;
+    sp.wo = -ray.d;
+    // Shading is two-sided: flip both normals to the viewer's side.
+    const bool front = dot(sp.wo, hit.ng) > 0.f;
+    sp.ng = front ? hit.ng : -hit.ng;
+    sp.ns = front ? hit.ns : -hit.ns;
+    sp.kd = diffuseAlbedo(*sp.material, hit, pathLength, sp.wo);
+    return sp;
+}
 
-    // The samples of one shading point are traced as packets: each candidate
-    // (above the surface, non-zero f) becomes a shadow ray with its weight
-    // f * L / pdf (the cosine and f live in phongResponse); the unoccluded
-    // weights are then summed in sample order, so results do not depend on
-    // how the rays were grouped.
-    constexpr uint32_t kBatch = 16;
-    Ray shadow[kBatch];
-    Rgb weight[kBatch];
-    uint8_t blocked[kBatch];
-    uint32_t pending = 0;
-    Rgb acc;
-    auto flush = [&] {
-        if (pending == 0) return;
-        accel_.occludedBatch(std::span<const Ray>(shadow, pending), std::span<uint8_t>(blocked, pending));
-        counts.shadow += pending;
-        for (uint32_t i = 0; i < pending; ++i)
-            if (!blocked[i]) acc += weight[i];
-        pending = 0;
-    };
-    auto add = [&](const LightSample& ls, float scale) {
-        if (dot(ls.wi, ng) <= 0.f) return;  // below the geometric surface
-        const Rgb f = phongResponse(m, kd, ns, wo, ls.wi, ls.delta);
+struct PathLane {
+    Ray ray;
+    std::optional<Hit> hit;
+    ShadingPoint sp;
+    Rgb L;
+    Rgb throughput{1.f};
+    float pathLength = 0.f;
+    SampleKey key{};
+};
+
+namespace {
+
+// Shadow rays of a batch's shading points, traced 16 at a time as packets.
+// Each ray carries the weight f * L / pdf of its sample and the lane it
+// belongs to; flush() adds the weights of the unoccluded ones to their
+// lanes' sums in the order they were queued, which is each lane's sample
+// order, so a lane's sum does not depend on the other lanes in the batch.
+class ShadowQueue {
+public:
+    ShadowQueue(const Accelerator& accel, RayCounts& counts, Rgb* sums) : accel_(accel), counts_(counts), sums_(sums) {}
+
+    void add(size_t lane, const ShadingPoint& sp, const LightSample& ls, float scale) {
+        if (dot(ls.wi, sp.ng) <= 0.f) return;  // below the geometric surface
+        const Rgb f = phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi, ls.delta);
         if (f.isBlack()) return;
-        shadow[pending] = std::isinf(ls.distance) ? spawnRay(hit.p, ng, ls.wi) : spawnRayTo(hit.p, ng, ls.point);
-        weight[pending] = f * ls.L * (scale / ls.pdf);
-        if (++pending == kBatch) flush();
-    };
+        rays_[pending_] = std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point);
+        weights_[pending_] = f * ls.L * (scale / ls.pdf);
+        lanes_[pending_] = static_cast<uint8_t>(lane);
+        if (++pending_ == kPacket) flush();
+    }
 
-    Rgb sum;
+    void flush() {
+        if (pending_ == 0) return;
+        accel_.occludedBatch(std::span<const Ray>(rays_, pending_), std::span<uint8_t>(blocked_, pending_));
+        counts_.shadow += pending_;
+        for (uint32_t i = 0; i < pending_; ++i)
+            if (!blocked_[i]) sums_[lanes_[i]] += weights_[i];
+        pending_ = 0;
+    }
+
+private:
+    static constexpr uint32_t kPacket = 16;
+    const Accelerator& accel_;
+    RayCounts& counts_;
+    Rgb* sums_;
+    Ray rays_[kPacket];
+    Rgb weights_[kPacket];
+    uint8_t lanes_[kPacket];
+    uint8_t blocked_[kPacket];
+    uint32_t pending_ = 0;
+};
+
+}  // namespace
+
+void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth,
+                                RayCounts& counts) const {
+    const size_t nLights = lights_.size();
+    if (nLights == 0) return;
+    const size_t nLanes = lanes.size();
+    // Lanes that need light samples, in lane order.
+    uint8_t lit[kMaxBatch];
+    size_t nLit = 0;
+    for (size_t i = 0; i < nLanes; ++i)
+        if (active[i] && lanes[i].sp.reflectsLight()) lit[nLit++] = static_cast<uint8_t>(i);
+    if (nLit == 0) return;
+
+    const uint32_t n = static_cast<uint32_t>(settings_.lightSamples);
+    const float invN = 1.f / float(n);
+    const uint32_t dimBase = kFirstLightDimension + uint32_t(depth) * uint32_t(nLights + 1);
+    Rgb acc[kMaxBatch], sum[kMaxBatch];
+    ShadowQueue queue(accel_, counts, acc);
+
+    // Sample u of lane `lane` (sample k of n) in dimension dim: a one-sample
+    // set is a single hash; larger sets are multi-jittered per shading point.
     if (settings_.lightSelection == LightSelection::All) {
         for (size_t j = 0; j < nLights; ++j) {
             const Light& light = lights_[j];
-            acc = Rgb{};
+            const uint32_t dim = dimBase + uint32_t(j);
+            for (size_t q = 0; q < nLit; ++q) acc[lit[q]] = Rgb{};
             if (light.isDelta()) {
-                if (auto ls = light.sample(hit.p, Vec2f{0.5f, 0.5f})) add(*ls, 1.f);
-                flush();
-                sum += acc;
+                for (size_t q = 0; q < nLit; ++q) {
+                    const ShadingPoint& sp = lanes[lit[q]].sp;
+                    if (auto ls = light.sample(sp.p, Vec2f{0.5f, 0.5f})) queue.add(lit[q], sp, *ls, 1.f);
+                }
+                queue.flush();
+                for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]];
                 continue;
             }
-            const MultiJitterSet set(n, mjPattern(key.seed, key.pixel, key.index, dimBase + j));
-            for (uint32_t k = 0; k < n; ++k)
-                if (auto ls = light.sample(hit.p, set.sample(k))) add(*ls, 1.f);
-            flush();
-            sum += acc / float(n);
+            for (size_t q = 0; q < nLit; ++q) {
+                const PathLane& lane = lanes[lit[q]];
+                if (n == 1) {
+                    const Vec2f u = hashPoint2D(lane.key.pixelKey, lane.key.index, dim);
+                    if (auto ls = light.sample(lane.sp.p, u)) queue.add(lit[q], lane.sp, *ls, 1.f);
+                    continue;
+                }
+                const MultiJitterSet set(n, setPattern(lane.key.pixelKey, lane.key.index, dim));
+                for (uint32_t k = 0; k < n; ++k)
+                    if (auto ls = light.sample(lane.sp.p, set.sample(k))) queue.add(lit[q], lane.sp, *ls, 1.f);
+            }
+            queue.flush();
+            for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]] * invN;
         }
-        return sum;
+    } else {
+        // Power-proportional selection: n samples in total, each picks one light.
+        const uint32_t dim = dimBase + uint32_t(nLights), pickDim = dim + 0x9e37u;
+        for (size_t q = 0; q < nLit; ++q) {
+            const PathLane& lane = lanes[lit[q]];
+            acc[lit[q]] = Rgb{};
+            const MultiJitterSet set(n, setPattern(lane.key.pixelKey, lane.key.index, dim));
+            const MultiJitterSet pickSet(n, setPattern(lane.key.pixelKey, lane.key.index, pickDim));
+            for (uint32_t k = 0; k < n; ++k) {
+                const LightSet::Pick pick = lights_.pickByPower(pickSet.sample(k).x);
+                if (!(pick.probability > 0.f)) continue;
+                if (auto ls = lights_[pick.index].sample(lane.sp.p, set.sample(k)))
+                    queue.add(lit[q], lane.sp, *ls, 1.f / pick.probability);
+            }
+        }
+        queue.flush();
+        for (size_t q = 0; q < nLit; ++q) sum[lit[q]] = acc[lit[q]] * invN;
     }
-    // Power-proportional selection: n samples in total, each picks one light.
-    const MultiJitterSet set(n, mjPattern(key.seed, key.pixel, key.index, dimBase + nLights));
-    const MultiJitterSet pickSet(n, mjPattern(key.seed, key.pixel, key.index, dimBase + nLights + 0x9e37ULL));
-    for (uint32_t k = 0; k < n; ++k) {
-        const LightSet::Pick pick = lights_.pickByPower(pickSet.sample(k).x);
-        if (!(pick.probability > 0.f)) continue;
-        if (auto ls = lights_[pick.index].sample(hit.p, set.sample(k))) add(*ls, 1.f / pick.probability);
+    for (size_t q = 0; q < nLit; ++q) lanes[lit[q]].L += lanes[lit[q]].throughput * sum[lit[q]];
+}
+
+void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
+                               std::span<const SampleKey> keys, std::span<Rgb> radiance,
+                               std::span<FirstHit> firstHits, RayCounts& counts) const {
+    const size_t n = std::min(cameraRays.size(), kMaxBatch);
+    PathLane lanes[kMaxBatch];
+    uint8_t active[kMaxBatch];
+    for (size_t i = 0; i < n; ++i) {
+        lanes[i].ray = cameraRays[i];
+        lanes[i].hit = hits[i];
+        lanes[i].key = keys[i];
+        active[i] = 1;
+        if (!firstHits.empty()) firstHits[i] = FirstHit{};
     }
-    flush();
-    return acc / float(n);
+    counts.camera += n;
+    const std::span<PathLane> batch(lanes, n);
+    for (int depth = 0;; ++depth) {
+        // Emission, ambient and the shading point of every lane still going.
+        for (size_t i = 0; i < n; ++i) {
+            if (!active[i]) continue;
+            PathLane& lane = lanes[i];
+            if (!lane.hit) {
+                lane.L += lane.throughput * scene_.background;
+                active[i] = 0;
+                continue;
+            }
+            const Hit& hit = *lane.hit;
+            lane.pathLength += hit.t;
+            lane.sp = shadingPoint(hit, lane.ray, lane.pathLength);
+            const Material& m = *lane.sp.material;
+            // Emission is one-sided: only the side the geometric normal faces emits.
+            if (m.isEmissive() && (dot(lane.sp.wo, hit.ng) > 0.f || m.twoSidedEmission)) lane.L += lane.throughput * m.ke;
+            if (depth == 0 && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};
+            lane.L += lane.throughput * (m.ka * scene_.ambient);
+        }
+        addDirectLight(batch, std::span<const uint8_t>(active, n), depth, counts);
+
+        // Mirror bounces of the lanes that continue, traced together.
+        Ray next[kMaxBatch];
+        uint8_t nextLane[kMaxBatch];
+        size_t nNext = 0;
+        for (size_t i = 0; i < n; ++i) {
+            if (!active[i]) continue;
+            PathLane& lane = lanes[i];
+            const Material& m = *lane.sp.material;
+            if (!m.isMirror() || depth >= settings_.maxDepth) {
+                active[i] = 0;
+                continue;
+            }
+            // r = d - 2(d.n)n about the shading normal; fall back to the geometric
+            // normal when smooth normals would send the ray below the surface.
+            Vec3f r = reflect(lane.ray.d, lane.sp.ns);
+            if (dot(r, lane.sp.ng) <= 0.f) r = reflect(lane.ray.d, lane.sp.ng);
+            lane.throughput *= m.kr;
+            if (lane.throughput.isBlack()) {
+                active[i] = 0;
+                continue;
+            }
+            lane.ray = spawnRay(lane.sp.p, lane.sp.ng, normalize(r));
+            ++counts.reflection;
+            next[nNext] = lane.ray;
+            nextLane[nNext++] = static_cast<uint8_t>(i);
+        }
+        if (nNext == 0) break;
+        std::optional<Hit> nextHits[kMaxBatch];
+        accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(nextHits, nNext));
+        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c];
+    }
+    for (size_t i = 0; i < n; ++i) {
+        if (lanes[i].L.isFinite()) {
+            radiance[i] = lanes[i].L;
+        } else {
+            ++counts.nonFinite;
+            radiance[i] = Rgb{};
+        }
+    }
 }
 
 Rgb Integrator::Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts, FirstHit* firstHit) const {
-    return Li(cameraRay, accel_.intersect(cameraRay), key, counts, firstHit);
-}
-
-Rgb Integrator::Li(const Ray& cameraRay, const std::optional<Hit>& primaryHit, const SampleKey& key, RayCounts& counts,
-                   FirstHit* firstHit) const {
+    const std::optional<Hit> hit = accel_.intersect(cameraRay);
     Rgb L;
-    Rgb throughput(1.f);
-    Ray ray = cameraRay;
-    float pathLength = 0.f;
-    ++counts.camera;
-    for (int depth = 0;; ++depth) {
-        const std::optional<Hit> hit = depth == 0 ? primaryHit : accel_.intersect(ray);
-        if (!hit) {
-            L += throughput * scene_.background;
-            break;
-        }
-        const Material& m = scene_.material(hit->material);
-        const Vec3f wo = -ray.d;
-        pathLength += hit->t;
-        // Emission is one-sided: only the side the geometric normal faces emits.
-        const bool front = dot(wo, hit->ng) > 0.f;
-        if (m.isEmissive() && (front || m.twoSidedEmission)) L += throughput * m.ke;
-
-        // Shading is two-sided: flip both normals to the viewer's side.
-        const Vec3f ng = front ? hit->ng : -hit->ng;
-        const Vec3f ns = front ? hit->ns : -hit->ns;
-        const Rgb kd = diffuseAlbedo(m, *hit, pathLength, wo);
-        if (depth == 0 && firstHit) *firstHit = FirstHit{kd, ns, hit->t};
-
-        L += throughput * (m.ka * scene_.ambient);
-        L += throughput * directLight(*hit, m, kd, ng, ns, wo, key, depth, counts);
-
-        if (!m.isMirror() || depth >= settings_.maxDepth) break;
-        // r = d - 2(d.n)n about the shading normal; fall back to the geometric
-        // normal when smooth normals would send the ray below the surface.
-        Vec3f r = reflect(ray.d, ns);
-        if (dot(r, ng) <= 0.f) r = reflect(ray.d, ng);
-        throughput *= m.kr;
-        if (throughput.isBlack()) break;
-        ray = spawnRay(hit->p, ng, normalize(r));
-        ++counts.reflection;
-    }
-    if (!L.isFinite()) {
-        ++counts.nonFinite;
-        return {};
-    }
+    FirstHit first;
+    radianceBatch(std::span<const Ray>(&cameraRay, 1), std::span<const std::optional<Hit>>(&hit, 1),
+                  std::span<const SampleKey>(&key, 1), std::span<Rgb>(&L, 1),
+                  firstHit ? std::span<FirstHit>(&first, 1) : std::span<FirstHit>(), counts);
+    if (firstHit) *firstHit = first;
     return L;
 }
 

@@ -4,12 +4,15 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <span>
 
 #include "accel/accelerator.h"
 #include "core/color.h"
 #include "core/render_settings.h"
 #include "core/scene.h"
 #include "lights/light_set.h"
+#include "shading/shading_point.h"
 
 namespace penumbra {
 
@@ -38,20 +41,26 @@ struct FirstHit {
 
 /// Sample-set dimensions: 0 = pixel position, 1 = lens, 2... = light samples
 /// (bounce d, light j uses kFirstLightDimension + d * (lights + 1) + j).
-inline constexpr uint64_t kPixelDimension = 0;
-inline constexpr uint64_t kLensDimension = 1;
-inline constexpr uint64_t kFirstLightDimension = 2;
+inline constexpr uint32_t kPixelDimension = 0;
+inline constexpr uint32_t kLensDimension = 1;
+inline constexpr uint32_t kFirstLightDimension = 2;
 
 /// Identifies the random numbers of one camera sample: every sample is a pure
-/// function of (seed, pixel, sample index, dimension).
+/// function of (seed, pixel, sample index, dimension). pixelKey is
+/// pixelSampleKey(seed, pixel) (core/multi_jitter.h), hashed once per pixel.
 struct SampleKey {
-    uint64_t seed;
-    uint64_t pixel;     // y * fullWidth + x
-    uint32_t index;     // camera sample index within the pixel
+    uint64_t pixelKey;
+    uint32_t index;  // camera sample index within the pixel
 };
+
+/// Path state of one camera sample while a batch of them is shaded.
+struct PathLane;
 
 class Integrator {
 public:
+    /// Most camera samples one radianceBatch call takes (a 4x4 pixel block).
+    static constexpr size_t kMaxBatch = 16;
+
     Integrator(const Scene& scene, const Accelerator& accel, const LightSet& lights, const TextureCache* textures,
                const RenderSettings& settings);
 
@@ -59,16 +68,23 @@ public:
     /// filter footprint (ray cones without differentials). 0 = finest level.
     void setPixelSpread(float radians) { pixelSpread_ = radians; }
 
-    /// Radiance arriving along the camera ray.
+    /// Radiance arriving along each camera ray of a batch (at most kMaxBatch),
+    /// whose closest hits the caller has found (as packets). The batch is
+    /// shaded together: the shadow rays of all its shading points go out as
+    /// packets, and so do the mirror rays of each bounce. Each result depends
+    /// only on its own ray, hit and key, never on the rest of the batch.
+    /// firstHits may be empty (no AOVs).
+    void radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
+                       std::span<const SampleKey> keys, std::span<Rgb> radiance, std::span<FirstHit> firstHits,
+                       RayCounts& counts) const;
+
+    /// Radiance along one camera ray (a batch of one; for tests and tools).
     Rgb Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts, FirstHit* firstHit) const;
-    /// The same, with the camera ray's closest hit already found (the renderer
-    /// traces camera rays as packets).
-    Rgb Li(const Ray& cameraRay, const std::optional<Hit>& primaryHit, const SampleKey& key, RayCounts& counts,
-           FirstHit* firstHit) const;
 
 private:
-    Rgb directLight(const Hit& hit, const Material& m, const Rgb& kd, const Vec3f& ng, const Vec3f& ns,
-                    const Vec3f& wo, const SampleKey& key, int depth, RayCounts& counts) const;
+    ShadingPoint shadingPoint(const Hit& hit, const Ray& ray, float pathLength) const;
+    /// Adds each lane's direct light (times its throughput) to its radiance.
+    void addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth, RayCounts& counts) const;
     Rgb diffuseAlbedo(const Material& m, const Hit& hit, float pathLength, const Vec3f& wo) const;
 
     const Scene& scene_;

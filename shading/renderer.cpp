@@ -44,8 +44,29 @@ Film makeFilm(const RenderSettings& s) {
     return Film(s.width, s.height, w, s.aovs);
 }
 
-RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& cameraDesc, const RenderSettings& settings,
-                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control) {
+namespace {
+
+// Everything one pass shares between its tiles (read-only while they run).
+struct PassContext {
+    const PreparedScene& prepared;
+    const Camera& camera;
+    const Integrator& integrator;
+    const RenderSettings& settings;
+    Film& film;
+    CropWindow window;
+    uint32_t firstSample, sampleCount;
+    bool useLens;
+    const std::atomic<bool>* cancel;
+
+    bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
+};
+
+struct PixelRect {
+    int x0, y0, x1, y1;
+};
+
+// Checks a pass's arguments against its film; throws Error(InvalidArgument).
+void checkPass(const RenderSettings& settings, const Film& film, uint32_t firstSample, uint32_t sampleCount) {
     validateSettings(settings);
     const CropWindow window = settings.crop ? *settings.crop : CropWindow{0, 0, settings.width, settings.height};
     if (film.fullWidth() != settings.width || film.fullHeight() != settings.height || !(film.window() == window))
@@ -55,16 +76,83 @@ RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& cameraDe
     if (film.sampleCount() != firstSample)
         throw Error(ErrorCode::InvalidArgument, "film holds " + std::to_string(film.sampleCount()) +
                                                     " samples per pixel; the pass must start there");
+}
 
+// Camera samples of one block of up to 4x4 pixels: for each sample index the
+// block's camera rays go out as one packet and are shaded as one batch. Each
+// pixel still receives its samples in sample order, so films do not depend on
+// the grouping. Cancellation is checked before every sample index (a batch of
+// at most 16 camera samples). Returns false when cancelled.
+bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
+    constexpr size_t kMax = Integrator::kMaxBatch;
+    const int bw = b.x1 - b.x0;
+    const size_t count = size_t(bw) * size_t(b.y1 - b.y0);
+    const uint32_t spp = static_cast<uint32_t>(c.settings.spp);
+    uint64_t pixelKey[kMax];
+    size_t filmIndex[kMax];
+    std::optional<MultiJitterSet> pixelSet[kMax], lensSet[kMax];
+    for (size_t i = 0; i < count; ++i) {
+        const int x = b.x0 + int(i) % bw, y = b.y0 + int(i) / bw;
+        pixelKey[i] = pixelSampleKey(c.settings.seed, uint64_t(y) * uint64_t(c.settings.width) + uint64_t(x));
+        filmIndex[i] = c.film.index(x, y);
+        pixelSet[i].emplace(spp, setPattern(pixelKey[i], 0, kPixelDimension));
+        if (c.useLens) lensSet[i].emplace(spp, setPattern(pixelKey[i], 0, kLensDimension));
+    }
+    Ray rays[kMax];
+    std::optional<Hit> hits[kMax];
+    SampleKey keys[kMax];
+    Rgb radiance[kMax];
+    FirstHit first[kMax];
+    const bool aovs = c.film.hasAovs();
+    for (uint32_t s = c.firstSample; s < c.firstSample + c.sampleCount; ++s) {
+        if (c.cancelled()) return false;
+        for (size_t i = 0; i < count; ++i) {
+            const Vec2f u = pixelSet[i]->sample(s);
+            const Vec2f uLens = c.useLens ? lensSet[i]->sample(s) : Vec2f{0.5f, 0.5f};
+            rays[i] = c.camera.generateRay(float(b.x0 + int(i) % bw) + u.x, float(b.y0 + int(i) / bw) + u.y, uLens);
+            keys[i] = SampleKey{pixelKey[i], s};
+        }
+        c.prepared.accelerator().intersectBatch(std::span<const Ray>(rays, count),
+                                                std::span<std::optional<Hit>>(hits, count));
+        c.integrator.radianceBatch(std::span<const Ray>(rays, count), std::span<const std::optional<Hit>>(hits, count),
+                                   std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count),
+                                   aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>(), counts);
+        for (size_t i = 0; i < count; ++i) {
+            c.film.addRadiance(filmIndex[i], radiance[i]);
+            if (aovs) c.film.addAov(filmIndex[i], first[i].albedo, first[i].normal, first[i].depth);
+        }
+    }
+    return true;
+}
+
+// One tile, block by block. Returns false when cancelled.
+bool renderTile(const PassContext& c, const PixelRect& tile, RayCounts& counts) {
+    DenormalGuard ftz;
+    constexpr int kBlock = 4;
+    for (int by = tile.y0; by < tile.y1; by += kBlock)
+        for (int bx = tile.x0; bx < tile.x1; bx += kBlock) {
+            const PixelRect block{bx, by, std::min(bx + kBlock, tile.x1), std::min(by + kBlock, tile.y1)};
+            if (!renderBlock(c, block, counts)) return false;
+        }
+    return true;
+}
+
+}  // namespace
+
+RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& cameraDesc, const RenderSettings& settings,
+                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control) {
+    checkPass(settings, film, firstSample, sampleCount);
     const Camera camera(cameraDesc, settings.width, settings.height);
     Integrator integrator(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings);
     integrator.setPixelSpread(2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height));
+    const PassContext context{prepared,    camera,      integrator, settings, film, film.window(), firstSample,
+                              sampleCount, cameraDesc.aperture > 0.f, control.cancel};
+
+    const CropWindow& window = context.window;
     const int tile = settings.tileSize;
     const int tilesX = (window.x1 - window.x0 + tile - 1) / tile;
     const int tilesY = (window.y1 - window.y0 + tile - 1) / tile;
     const size_t tileCount = size_t(tilesX) * size_t(tilesY);
-    const uint32_t spp = static_cast<uint32_t>(settings.spp);
-    const bool useLens = cameraDesc.aperture > 0.f;
 
     std::mutex mergeMutex;
     RayCounts total;
@@ -72,56 +160,19 @@ RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& cameraDe
     std::atomic<bool> stopped{false};
     const uint64_t invalidBefore = prepared.accelerator().invalidRayCount();
     auto t0 = Clock::now();
-
     parallelFor(tileCount, settings.threads, [&](size_t t) {
-        DenormalGuard ftz;
+        if (stopped.load(std::memory_order_relaxed)) return;
         const int x0 = window.x0 + int(t % size_t(tilesX)) * tile;
         const int y0 = window.y0 + int(t / size_t(tilesX)) * tile;
-        const int x1 = std::min(x0 + tile, window.x1), y1 = std::min(y0 + tile, window.y1);
         RayCounts counts;
-        // Camera rays go out as packets: the rays of one sample index over a
-        // block of up to 4x4 pixels are coherent. Each pixel still receives
-        // its samples in sample order, so films do not depend on the grouping.
-        constexpr int kBlock = 4;
-        Ray rays[kBlock * kBlock];
-        std::optional<Hit> hits[kBlock * kBlock];
-        for (int by = y0; by < y1; by += kBlock) {
-            if (control.cancel && control.cancel->load(std::memory_order_relaxed)) {
-                stopped = true;
-                return;
-            }
-            for (int bx = x0; bx < x1; bx += kBlock) {
-                const int bw = std::min(kBlock, x1 - bx), bh = std::min(kBlock, y1 - by);
-                const int count = bw * bh;
-                uint64_t pixel[kBlock * kBlock];
-                size_t filmIndex[kBlock * kBlock];
-                std::optional<MultiJitterSet> pixelSet[kBlock * kBlock], lensSet[kBlock * kBlock];
-                for (int i = 0; i < count; ++i) {
-                    const int x = bx + i % bw, y = by + i / bw;
-                    pixel[i] = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
-                    filmIndex[i] = film.index(x, y);
-                    pixelSet[i].emplace(spp, mjPattern(settings.seed, pixel[i], 0, kPixelDimension));
-                    if (useLens) lensSet[i].emplace(spp, mjPattern(settings.seed, pixel[i], 0, kLensDimension));
-                }
-                for (uint32_t s = firstSample; s < firstSample + sampleCount; ++s) {
-                    for (int i = 0; i < count; ++i) {
-                        const Vec2f u = pixelSet[i]->sample(s);
-                        const Vec2f uLens = useLens ? lensSet[i]->sample(s) : Vec2f{0.5f, 0.5f};
-                        rays[i] = camera.generateRay(float(bx + i % bw) + u.x, float(by + i / bw) + u.y, uLens);
-                    }
-                    prepared.accelerator().intersectBatch(std::span<const Ray>(rays, size_t(count)),
-                                                          std::span<std::optional<Hit>>(hits, size_t(count)));
-                    for (int i = 0; i < count; ++i) {
-                        FirstHit first;
-                        const Rgb L = integrator.Li(rays[i], hits[i], SampleKey{settings.seed, pixel[i], s}, counts, &first);
-                        film.addRadiance(filmIndex[i], L);
-                        if (film.hasAovs()) film.addAov(filmIndex[i], first.albedo, first.normal, first.depth);
-                    }
-                }
-            }
-        }
+        const bool finished =
+            renderTile(context, PixelRect{x0, y0, std::min(x0 + tile, window.x1), std::min(y0 + tile, window.y1)}, counts);
         std::lock_guard<std::mutex> lock(mergeMutex);
         total += counts;
+        if (!finished) {
+            stopped = true;
+            return;
+        }
         ++tilesDone;
         if (control.progress) control.progress(tilesDone, tileCount);
     });

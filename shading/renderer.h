@@ -70,7 +70,8 @@ struct RenderControl {
     /// Called after each finished tile with (tiles done, tiles total); never
     /// concurrently with itself. May be empty.
     std::function<void(size_t, size_t)> progress;
-    /// When set and it becomes true, the render stops after the rows in flight.
+    /// When set and it becomes true, the render stops within one batch of at most
+    /// 16 camera samples per thread (checked inside tiles; docs/embedding.md).
     const std::atomic<bool>* cancel = nullptr;
 };
 

@@ -43,6 +43,8 @@ BenchParseResult parseBenchCommandLine(int argc, char** argv) {
     app.add_option("--sizes", sizes, "Triangle counts of the procedural scenes (default 1e2,1e3,1e4,1e5,1e6)");
     app.add_option("--obj", o.objs, "An OBJ file to place in a room with a light (repeatable)")
         ->check(CLI::ExistingFile);
+    app.add_option("--scene", o.scenes, "A JSON scene file to measure as it stands (repeatable)")
+        ->check(CLI::ExistingFile);
     app.add_option("--default-scene", defaultScene, "The default scene (\"\" leaves it out)")->capture_default_str();
     app.add_flag("--no-mixed", noMixed, "Leave out the scene with analytic shapes");
     app.add_flag("--quick", o.quick, "Tiny sizes, ray counts and frame (the smoke test)");

@@ -14,6 +14,7 @@ namespace penumbra::bench {
 struct BenchOptions {
     std::vector<size_t> sizes;                 // triangle counts of the procedural scenes
     std::vector<std::filesystem::path> objs;   // extra OBJ files, each placed in a room
+    std::vector<std::filesystem::path> scenes; // JSON scene files, as they stand
     std::filesystem::path defaultScene;        // the Cornell box; empty = left out
     bool mixed = true;                         // the scene with analytic shapes
     bool quick = false;

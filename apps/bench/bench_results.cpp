@@ -21,21 +21,25 @@ SceneRatios ratiosOf(const SceneResult& r) {
         q.buildOverRaw = ratio(r.embree.buildSeconds, r.raw.buildSeconds);
         q.buildOverRawWithDevice = ratio(r.embree.buildSeconds, r.raw.buildSeconds + r.raw.deviceSeconds);
         q.memoryOverRaw = ratio(double(r.embree.memoryBytes), double(r.raw.memoryBytes));
-        // The frame's rays, each at the raw rate of its kind (reflection rays
-        // at the incoherent set's rate), with the frame's thread count.
-        if (r.embree.frame.measured) {
-            const RayCounts& n = r.embree.frame.rays;
-            const double counts[kRayKindCount] = {double(n.camera), double(n.shadow), double(n.reflection)};
-            double pure = 0.0;
-            bool ok = true;
-            for (size_t k = 0; k < kRayKindCount; ++k) {
-                if (counts[k] == 0.0) continue;
-                const double rate = r.raw.kinds[k].mraysAll() * 1e6;
-                if (!(rate > 0.0)) ok = false;
-                else pure += counts[k] / rate;
-            }
-            if (ok) q.frameOverQuery = ratio(r.embree.frame.secondsAll, pure);
+    }
+    // The frame's rays, each at the pure query rate of its kind (reflection
+    // rays at the incoherent set's rate), with the frame's thread count: raw
+    // Embree's where the raw harness holds the scene (triangles only), else
+    // the renderer's accelerator answering single rays with nothing else
+    // (intersectPrim, occluded).
+    if (r.embree.frame.measured) {
+        const AccelFigures& query = r.raw.present ? r.raw : r.embreeThin;
+        const RayCounts& n = r.embree.frame.rays;
+        const double counts[kRayKindCount] = {double(n.camera), double(n.shadow), double(n.reflection)};
+        double pure = 0.0;
+        bool ok = true;
+        for (size_t k = 0; k < kRayKindCount; ++k) {
+            if (counts[k] == 0.0) continue;
+            const double rate = query.kinds[k].mraysAll() * 1e6;
+            if (!(rate > 0.0)) ok = false;
+            else pure += counts[k] / rate;
         }
+        if (ok) q.frameOverQuery = ratio(r.embree.frame.secondsAll, pure);
     }
     if (r.raw.present && r.rawFast.present)
         for (size_t k = 0; k < kRayKindCount; ++k)

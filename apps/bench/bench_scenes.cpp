@@ -43,6 +43,7 @@ const char* familyName(SceneFamily f) {
         case SceneFamily::Mixed: return "mixed";
         case SceneFamily::Default: return "default";
         case SceneFamily::Obj: return "obj";
+        case SceneFamily::File: return "file";
     }
     return "?";
 }
@@ -217,6 +218,18 @@ BenchScene objInRoom(const std::filesystem::path& obj, const Logger& log) {
     if (object.empty()) throw Error(ErrorCode::InvalidScene, obj.string() + ": no geometry to benchmark");
     addRoom(b.scene, object);
     b.camera = frameObject(object);
+    return b;
+}
+
+BenchScene fileScene(const std::filesystem::path& json, const Logger& log) {
+    BenchScene b;
+    b.name = json.stem().string();
+    b.family = SceneFamily::File;
+    LoadedScene loaded = loadScene(json, LoadOptions{}, log);
+    b.scene = std::move(loaded.scene);
+    b.camera = loaded.camera ? *loaded.camera : frameObject(b.scene.bounds());
+    b.lightSamples = loaded.settings.lightSamples;
+    b.maxDepth = loaded.settings.maxDepth;
     return b;
 }
 

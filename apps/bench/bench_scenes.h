@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "core/camera.h"
@@ -15,7 +16,7 @@ namespace penumbra::bench {
 
 /// What a scene is in the report: the procedural size series (plotted), the
 /// analytic mix, the default scene or a user OBJ.
-enum class SceneFamily { Procedural, Mixed, Default, Obj };
+enum class SceneFamily { Procedural, Mixed, Default, Obj, File };
 const char* familyName(SceneFamily f);
 
 struct BenchScene {
@@ -23,6 +24,9 @@ struct BenchScene {
     SceneFamily family = SceneFamily::Procedural;
     Scene scene;  // not finalized yet
     CameraDesc camera;
+    /// Light samples and mirror depth of the frame, when the scene file says
+    /// (the frame's size and spp are the benchmark's own).
+    std::optional<int> lightSamples, maxDepth;
 };
 
 /// Triangles of the room addRoom() builds (5 walls and the 2-triangle light).
@@ -53,6 +57,10 @@ BenchScene defaultScene(const std::filesystem::path& obj, const Logger& log);
 
 /// Any OBJ placed on the floor of a room with a light, framed by frameObject.
 BenchScene objInRoom(const std::filesystem::path& obj, const Logger& log);
+
+/// A JSON scene file as it stands (its camera, or framed like an OBJ when it
+/// has none), named after the file.
+BenchScene fileScene(const std::filesystem::path& json, const Logger& log);
 
 /// Short label for a triangle count: 100 -> "1e2", 250 -> "250".
 std::string sizeLabel(size_t n);

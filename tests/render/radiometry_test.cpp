@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/log.h"
+#include "core/multi_jitter.h"
 #include "shading/integrator.h"
 #include "shading/renderer.h"
 #include "support/both_accelerators.h"
@@ -40,7 +41,7 @@ Rgb radianceAlong(const PreparedScene& ps, const Ray& ray, int lightSamples, int
     st.maxDepth = maxDepth;
     Integrator integ(ps.scene(), ps.accelerator(), ps.lights(), ps.textures(), st);
     RayCounts counts;
-    return integ.Li(ray, SampleKey{1, 0, 0}, counts, nullptr);
+    return integ.Li(ray, SampleKey{pixelSampleKey(1, 0), 0}, counts, nullptr);
 }
 
 // Irradiance at x (normal n) from a uniform polygon of radiance 1 (Lambert's

@@ -1,0 +1,25 @@
+// What the integrator knows about the surface point it shades: the hit made
+// two-sided (both normals on the side the ray arrived from), the direction
+// back along the ray and the material with its (textured) diffuse albedo.
+#pragma once
+
+#include "core/color.h"
+#include "core/material.h"
+#include "core/math.h"
+
+namespace penumbra {
+
+struct ShadingPoint {
+    Vec3f p;    // hit point
+    Vec3f ng;   // unit geometric normal, facing wo
+    Vec3f ns;   // unit shading normal, facing wo
+    Vec3f wo;   // unit direction back along the ray
+    Rgb kd;     // diffuse albedo after texturing
+    const Material* material = nullptr;
+
+    /// Whether any light can reach the viewer from here (a black or pure
+    /// mirror material needs no light samples).
+    bool reflectsLight() const { return !(kd.isBlack() && material->ks.isBlack()); }
+};
+
+}  // namespace penumbra

@@ -9,6 +9,9 @@
 See docs/python.md. Everything here binds the C++ API (<penumbra/penumbra.hpp>).
 """
 
+import atexit
+import weakref
+
 from ._penumbra import (
     BuildQuality,
     Camera,
@@ -51,3 +54,29 @@ def _framebuffer_repr_png(self):
 
 Framebuffer.to_png = _framebuffer_to_png
 Framebuffer._repr_png_ = _framebuffer_repr_png
+
+
+# Running jobs are cancelled and waited for when the interpreter exits, while
+# their callbacks can still take the GIL (later, during finalization, a thread
+# that asks for the GIL is stopped by Python itself).
+_live_jobs = weakref.WeakSet()
+_render_async = Renderer.render_async
+
+
+def _tracked_render_async(self, *args, **kwargs):
+    job = _render_async(self, *args, **kwargs)
+    _live_jobs.add(job)
+    return job
+
+
+_tracked_render_async.__doc__ = _render_async.__doc__
+Renderer.render_async = _tracked_render_async
+
+
+@atexit.register
+def _stop_jobs():
+    jobs = list(_live_jobs)
+    for job in jobs:
+        job.cancel()
+    for job in jobs:
+        job.wait()

@@ -96,7 +96,7 @@ struct PyJob {
     // Destroying a running job cancels and joins it; its thread may be
     // waiting for the GIL (a callback), so give it up meanwhile.
     ~PyJob() {
-        if (interpreterAlive() && PyGILState_Check()) {
+        if (Py_IsInitialized() && PyGILState_Check()) {
             py::gil_scoped_release release;
             job = pnb::RenderJob();
         }
@@ -141,6 +141,7 @@ pnb::AsyncOptions asyncOptions(std::uint32_t passSamples, const py::object& prog
     if (!progress.is_none()) {
         PyCallable cb(progress);
         o.progress = [cb](double f) {
+            if (!interpreterAlive()) return;  // at exit: nobody to call
             py::gil_scoped_acquire gil;
             try {
                 cb.get()(f);
@@ -152,6 +153,7 @@ pnb::AsyncOptions asyncOptions(std::uint32_t passSamples, const py::object& prog
     if (!onPass.is_none()) {
         PyCallable cb(onPass);
         o.onPass = [cb](const pnb::Framebuffer& image, std::uint32_t samplesDone) {
+            if (!interpreterAlive()) return;  // at exit: nobody to call
             auto copy = std::make_shared<PyFramebuffer>(image);  // the job's own image is lent only for the call
             py::gil_scoped_acquire gil;
             try {
@@ -164,6 +166,7 @@ pnb::AsyncOptions asyncOptions(std::uint32_t passSamples, const py::object& prog
     if (!onComplete.is_none()) {
         PyCallable cb(onComplete);
         o.onComplete = [cb](const pnb::JobResult& r) {
+            if (!interpreterAlive()) return;  // at exit: nobody to call
             std::shared_ptr<PyFramebuffer> image;
             if (r.framebuffer) image = std::make_shared<PyFramebuffer>(*r.framebuffer);
             py::gil_scoped_acquire gil;

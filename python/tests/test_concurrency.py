@@ -170,3 +170,24 @@ def test_no_leak_over_many_renders(renderer):
     growth = rss_bytes() - before
     print(f"RSS growth over 200 renders: {growth / 2**20:.2f} MiB")
     assert growth < 8 * 2**20, f"RSS grew by {growth / 2**20:.1f} MiB over 200 renders"
+
+
+EXIT_WITH_JOB = """
+import sys, time
+import penumbra
+r = penumbra.Renderer()
+scene = r.prepare(r.load_scene(sys.argv[1]))
+job = r.render_async(scene, width=256, height=256, spp=4096, pass_samples=1, progress=lambda f: None,
+                     on_pass=lambda fb, n: None, on_complete=lambda result: print(result.status, flush=True))
+time.sleep(0.2)
+"""
+
+
+def test_exit_with_a_running_job_cancels_it():
+    start = time.monotonic()
+    done = subprocess.run(
+        [sys.executable, "-c", EXIT_WITH_JOB, str(SOURCE_DIR / "assets" / "cornell" / "cornell.obj")],
+        capture_output=True, text=True, timeout=20)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "JobStatus.Cancelled"
+    assert time.monotonic() - start < 5.0

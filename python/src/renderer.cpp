@@ -86,6 +86,19 @@ pnb::LogCallback logCallback(const py::object& fn) {
 
 // ---- asynchronous jobs
 
+// Set while a job's callback runs on a library thread. Python code there may
+// drop the last reference to the job, whose destructor joins that very thread
+// (or waits for the render this thread works for): such a job is destroyed on
+// a thread of its own instead.
+thread_local int jobCallbackDepth = 0;
+
+struct InJobCallback {
+    InJobCallback() { ++jobCallbackDepth; }
+    ~InJobCallback() { --jobCallbackDepth; }
+    InJobCallback(const InJobCallback&) = delete;
+    InJobCallback& operator=(const InJobCallback&) = delete;
+};
+
 struct PyJob {
     pnb::RenderJob job;
     std::shared_ptr<PyFramebuffer> image;  // taken out of the job on first request
@@ -96,6 +109,10 @@ struct PyJob {
     // Destroying a running job cancels and joins it; its thread may be
     // waiting for the GIL (a callback), so give it up meanwhile.
     ~PyJob() {
+        if (jobCallbackDepth > 0) {
+            std::thread([j = std::move(job)]() mutable { j = pnb::RenderJob(); }).detach();
+            return;
+        }
         if (Py_IsInitialized() && PyGILState_Check()) {
             py::gil_scoped_release release;
             job = pnb::RenderJob();
@@ -142,6 +159,7 @@ pnb::AsyncOptions asyncOptions(std::uint32_t passSamples, const py::object& prog
         PyCallable cb(progress);
         o.progress = [cb](double f) {
             if (!interpreterAlive()) return;  // at exit: nobody to call
+            InJobCallback inCallback;
             py::gil_scoped_acquire gil;
             try {
                 cb.get()(f);
@@ -155,6 +173,7 @@ pnb::AsyncOptions asyncOptions(std::uint32_t passSamples, const py::object& prog
         o.onPass = [cb](const pnb::Framebuffer& image, std::uint32_t samplesDone) {
             if (!interpreterAlive()) return;  // at exit: nobody to call
             auto copy = std::make_shared<PyFramebuffer>(image);  // the job's own image is lent only for the call
+            InJobCallback inCallback;
             py::gil_scoped_acquire gil;
             try {
                 cb.get()(std::move(copy), samplesDone);
@@ -169,6 +188,7 @@ pnb::AsyncOptions asyncOptions(std::uint32_t passSamples, const py::object& prog
             if (!interpreterAlive()) return;  // at exit: nobody to call
             std::shared_ptr<PyFramebuffer> image;
             if (r.framebuffer) image = std::make_shared<PyFramebuffer>(*r.framebuffer);
+            InJobCallback inCallback;
             py::gil_scoped_acquire gil;
             try {
                 py::object result = py::module_::import("types").attr("SimpleNamespace")(

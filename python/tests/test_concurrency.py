@@ -191,3 +191,15 @@ def test_exit_with_a_running_job_cancels_it():
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "JobStatus.Cancelled"
     assert time.monotonic() - start < 5.0
+
+
+def test_callback_may_drop_the_last_reference_to_its_job(renderer, cornell):
+    holder, finished = [], threading.Event()
+
+    def on_complete(result):
+        holder.clear()  # the job's last reference goes away on the job's own thread
+        finished.set()
+
+    holder.append(renderer.render_async(cornell, width=32, height=24, spp=2, on_complete=on_complete))
+    assert finished.wait(timeout=10)
+    assert holder == []

@@ -106,7 +106,7 @@ pnb::RenderSettings settingsWith(pnb::RenderSettings base, const py::kwargs& kwa
 /// Converts a str or os.PathLike to a path string.
 std::string pathString(const py::handle& path);
 
-/// Raises penumbra.Error for `e` (as a Python exception instance).
+/// A penumbra.Error instance carrying the message and code of `e`.
 py::object errorObject(const pnb::Error& e);
 
 void bindErrors(py::module_& m);

@@ -20,7 +20,9 @@ bool interpreterAlive() {
 // A Python exception from a callback on a library thread, as the pnb::Error
 // that the library passes back to its caller (the job's error).
 [[noreturn]] void callbackFailed(const char* which, py::error_already_set& e) {
-    throw pnb::Error(pnb::ErrorCode::Internal, std::string(which) + " callback raised " + e.what());
+    std::string what = e.what();  // "Type: message", then pybind11's traceback: keep the first line
+    what = what.substr(0, what.find('\n'));
+    throw pnb::Error(pnb::ErrorCode::Internal, std::string(which) + " callback raised " + what);
 }
 
 // ---- resolving the arguments every render takes

@@ -145,7 +145,7 @@ def test_ctrl_c_raises_keyboard_interrupt_promptly(how):
     assert "KeyboardInterrupt" in err, err
     assert "finished" not in out
     assert child.returncode in (-signal.SIGINT, 128 + signal.SIGINT, 1)
-    assert elapsed < 1.5, f"exit took {elapsed:.3f} s after SIGINT"
+    assert elapsed < 2.0, f"exit took {elapsed:.3f} s after SIGINT"
 
 
 def rss_bytes():

@@ -7,6 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libembree-dev libtbb-dev libopenimageio-dev openimageio-tools libtinyobjloader-dev
   libgtest-dev libcli11-dev nlohmann-json3-dev
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio
   gnuplot-nox
   clang libclang-rt-14-dev
 )

@@ -90,7 +90,19 @@ void addMetadata(OIIO::ImageSpec& spec, const ImageMetadata& m) {
     spec.attribute("penumbra:render_seconds", static_cast<float>(m.renderSeconds));
 }
 
-void writeAovExr(const fs::path& path, const Film& film, const ImageMetadata& meta, bool withRadiance) {
+// An EXR of a crop: data window at the crop's origin, display window the full frame.
+void setDataWindow(OIIO::ImageSpec& spec, const ImageWriteOptions& o) {
+    if (o.fullWidth <= 0 || o.fullHeight <= 0) return;
+    spec.x = o.dataOriginX;
+    spec.y = o.dataOriginY;
+    spec.full_x = 0;
+    spec.full_y = 0;
+    spec.full_width = o.fullWidth;
+    spec.full_height = o.fullHeight;
+}
+
+void writeAovExr(const fs::path& path, const Film& film, const ImageWriteOptions& options, bool withRadiance) {
+    const ImageMetadata& meta = options.metadata;
     const int w = film.width(), h = film.height();
     const int nch = (withRadiance ? 3 : 0) + 7;
     OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::FLOAT);
@@ -101,6 +113,7 @@ void writeAovExr(const fs::path& path, const Film& film, const ImageMetadata& me
         spec.alpha_channel = -1;
     }
     addMetadata(spec, meta);
+    setDataWindow(spec, options);
     std::vector<float> px(size_t(w) * h * nch);
     for (size_t i = 0, n = size_t(w) * h; i < n; ++i) {
         float* p = &px[i * nch];
@@ -163,7 +176,7 @@ void writeImage(const fs::path& path, const Film& film, const ImageWriteOptions&
     const ImageFormat fmt = imageFormatFromPath(path);
     const int w = film.width(), h = film.height();
     if (fmt == ImageFormat::Exr && options.aovs && film.hasAovs()) {
-        writeAovExr(path, film, options.metadata, true);
+        writeAovExr(path, film, options, true);
         return;
     }
     // Other formats keep their AOVs in a sibling EXR. It is written first and
@@ -171,7 +184,7 @@ void writeImage(const fs::path& path, const Film& film, const ImageWriteOptions&
     fs::path aovPath;
     if (options.aovs && film.hasAovs()) {
         aovPath = path.parent_path() / (path.stem().string() + ".aovs.exr");
-        writeAovExr(aovPath, film, options.metadata, false);
+        writeAovExr(aovPath, film, options, false);
     }
     try {
         static_assert(std::endian::native == std::endian::little, "the PFM writer assumes a little-endian host");
@@ -180,6 +193,7 @@ void writeImage(const fs::path& path, const Film& film, const ImageWriteOptions&
         } else if (isFloatFormat(fmt)) {
             OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
             addMetadata(spec, options.metadata);
+            if (fmt == ImageFormat::Exr) setDataWindow(spec, options);
             std::vector<float> px = film.radianceBuffer(3);
             writeRaw(path, spec, px.data(), OIIO::TypeDesc::FLOAT);
         } else {

@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libcli11-dev nlohmann-json3-dev
   gnuplot-nox
   clang libclang-rt-14-dev
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()

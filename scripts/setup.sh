@@ -10,6 +10,7 @@ packages=(
   gnuplot-nox
   clang libclang-rt-14-dev
   libopenmpi-dev openmpi-bin
+  openimageio-tools
 )
 
 missing=()

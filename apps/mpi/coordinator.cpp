@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <thread>
 
 #include "tile_plan.h"
 
@@ -15,6 +16,19 @@ namespace {
 void sendTile(const pnb::CropWindow& t, int rank) {
     const int window[4] = {t.x0, t.y0, t.x1, t.y1};
     MPI_Send(window, 4, MPI_INT, rank, kTagTile, MPI_COMM_WORLD);
+}
+
+// Waits for the next message from any worker. Polls with short sleeps: a
+// blocking MPI_Probe spins on a core, which the workers beside rank 0 on the
+// same node need (a tile takes milliseconds; the sleep costs a fraction of one).
+MPI_Status nextMessage() {
+    MPI_Status status;
+    for (;;) {
+        int flag = 0;
+        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+        if (flag) return status;
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
 }
 
 void sendStop(int rank) { MPI_Send(nullptr, 0, MPI_BYTE, rank, kTagStop, MPI_COMM_WORLD); }
@@ -52,8 +66,7 @@ FrameResult runCoordinator(const Job& job, int size, const std::function<void(st
     }
     std::vector<std::uint8_t> bytes;
     while (running > 0) {
-        MPI_Status status;
-        MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+        const MPI_Status status = nextMessage();
         const int from = status.MPI_SOURCE;
         if (status.MPI_TAG == kTagFailed) {
             int length = 0;

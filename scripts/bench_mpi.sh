@@ -16,7 +16,7 @@ rounds=${2:-3}
 scene=${SCENE:-$root/assets/scenes/showcase.json}
 width=${WIDTH:-480}
 height=${HEIGHT:-320}
-spp=${SPP:-16}
+spp=${SPP:-48}
 ranks_list=${RANKS:-"1 2 3"}
 bin=$build/bin/penumbra-mpi
 [[ -x $bin ]] || { echo "bench_mpi: $bin not built (MPI not found?)" >&2; exit 1; }
@@ -31,6 +31,7 @@ json_number() { sed -n "s/^  \"$2\": \([0-9.eE+-]*\),\{0,1\}$/\1/p" "$1"; }
 
 echo "# penumbra-mpi scaling: $(basename "$scene") ${width}x${height}, $spp spp, --threads 1 per rank"
 echo "# machine: $(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')), $(date -u +%Y-%m-%dT%H:%MZ)"
+echo "# load average before: $(cut -d' ' -f1-3 /proc/loadavg) (other work on the machine makes the figures noisy)"
 echo "# raw runs: round ranks render_s job_s (render: rank 0's first tile out to last tile back; job: the whole mpirun)"
 declare -A best_render best_job
 for round in $(seq 1 "$rounds"); do
@@ -51,6 +52,7 @@ for n in $ranks_list; do
     cmp -s "$tmp/out1.pfm" "$tmp/out$n.pfm" || { echo "bench_mpi: the $n-rank image differs from the 1-rank one" >&2; exit 1; }
 done
 echo "# images of all rank counts identical (cmp of the PFM files)"
+echo "# load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
 echo "| ranks | rendering ranks | render s (best) | speed-up | efficiency per rank | efficiency per rendering rank | job s (best) |"
 echo "|---|---|---|---|---|---|---|"

@@ -52,18 +52,24 @@ FrameResult runCoordinator(const Job& job, int size, const std::function<void(st
     result.tileCount = tiles.size();
     const auto t0 = std::chrono::steady_clock::now();
 
-    // Every worker starts with a tile; whoever finishes one gets the next, so
-    // a slow node renders fewer tiles instead of holding the frame. A worker
-    // told to stop confirms with its totals (kTagDone); the frame is complete
-    // when all have, so a rank lost before that point leaves no image.
+    // Every worker starts with kInFlight tiles and gets the next one each time
+    // it returns one, so a slow node renders fewer tiles instead of holding the
+    // frame, and a worker never waits for rank 0 between tiles (the next one
+    // is already queued while it renders). A worker with nothing left in flight
+    // is told to stop and confirms with its totals (kTagDone); the frame is
+    // complete when all have, so a rank lost before that point leaves no image.
+    constexpr int kInFlight = 2;
     size_t next = 0, done = 0;
     int running = size - 1;
-    for (int r = 1; r < size; ++r) {
-        if (next < tiles.size())
-            sendTile(tiles[next++], r);
-        else
-            sendStop(r);
-    }
+    std::vector<int> inFlight(size_t(size), 0);
+    for (int round = 0; round < kInFlight; ++round)
+        for (int r = 1; r < size; ++r)
+            if (next < tiles.size()) {
+                sendTile(tiles[next++], r);
+                ++inFlight[size_t(r)];
+            }
+    for (int r = 1; r < size; ++r)
+        if (inFlight[size_t(r)] == 0) sendStop(r);
     std::vector<std::uint8_t> bytes;
     while (running > 0) {
         const MPI_Status status = nextMessage();
@@ -99,10 +105,13 @@ FrameResult runCoordinator(const Job& job, int size, const std::function<void(st
         }
         ++result.tilesPerRank[size_t(from)];
         if (progress) progress(++done, tiles.size());
-        if (next < tiles.size())
+        --inFlight[size_t(from)];
+        if (next < tiles.size()) {
             sendTile(tiles[next++], from);
-        else
+            ++inFlight[size_t(from)];
+        } else if (inFlight[size_t(from)] == 0) {
             sendStop(from);
+        }
     }
     result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (done != tiles.size()) abortJob("the workers returned " + std::to_string(done) + " of " + std::to_string(tiles.size()) + " tiles");

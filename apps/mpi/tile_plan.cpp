@@ -6,7 +6,7 @@ namespace penumbra::mpi {
 
 std::vector<pnb::CropWindow> planTiles(const pnb::CropWindow& w, int workers) {
     const int width = w.x1 - w.x0, height = w.y1 - w.y0;
-    const long wanted = 4L * std::max(workers, 1);
+    const long wanted = 8L * std::max(workers, 1);
     int side = 8;
     for (int s : {64, 32, 16}) {
         const long count = long((width + s - 1) / s) * long((height + s - 1) / s);

@@ -9,7 +9,7 @@ namespace penumbra::mpi {
 
 /// Square tiles (the last row and column may be narrower) covering `window`
 /// row by row, in full-frame coordinates. The side is the largest of 64, 32,
-/// 16, 8 pixels that still gives each worker at least 4 tiles, so that
+/// 16, 8 pixels that still gives each worker at least 8 tiles, so that
 /// handing them out as workers finish keeps every rank busy to the end.
 std::vector<pnb::CropWindow> planTiles(const pnb::CropWindow& window, int workers);
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/image_io.h"
 
@@ -177,6 +178,47 @@ void Framebuffer::clear() {
     impl_->renderSeconds = 0.0;
 }
 
+void Framebuffer::paste(const Framebuffer& tile) {
+    guarded([&] {
+        impl_->film.paste(tile.impl_->film);
+        impl_->renderSeconds += tile.impl_->renderSeconds;
+        impl_->incomplete = impl_->incomplete || tile.impl_->incomplete;
+    });
+}
+
+namespace {
+// What travels beside the film: the seed and render time of its metadata.
+struct FramebufferTrailer {
+    std::uint64_t seed;
+    double renderSeconds;
+    std::uint64_t incomplete;
+};
+}  // namespace
+
+std::vector<std::uint8_t> Framebuffer::serialize() const {
+    return guarded([&] {
+        std::vector<std::uint8_t> bytes = impl_->film.serialize();
+        const FramebufferTrailer t{impl_->seed, impl_->renderSeconds, impl_->incomplete ? 1u : 0u};
+        const auto* p = reinterpret_cast<const std::uint8_t*>(&t);
+        bytes.insert(bytes.end(), p, p + sizeof t);
+        return bytes;
+    });
+}
+
+Framebuffer Framebuffer::deserialize(const std::uint8_t* data, std::size_t size) {
+    Framebuffer f;
+    guarded([&] {
+        require(data != nullptr && size >= sizeof(FramebufferTrailer), "deserialize: not a serialized framebuffer");
+        FramebufferTrailer t;
+        std::memcpy(&t, data + size - sizeof t, sizeof t);
+        f.impl_->film = pn::Film::deserialize(data, size - sizeof t);
+        f.impl_->seed = t.seed;
+        f.impl_->renderSeconds = t.renderSeconds;
+        f.impl_->incomplete = t.incomplete != 0;
+    });
+    return f;
+}
+
 void Framebuffer::writeImage(const std::string& path, const ImageOptions& options) const {
     guarded([&] {
         require(impl_->film.width() > 0, path + ": cannot write an empty framebuffer");
@@ -184,6 +226,12 @@ void Framebuffer::writeImage(const std::string& path, const ImageOptions& option
         pn::ImageWriteOptions wo;
         wo.exposure = options.exposure;
         wo.aovs = options.aovs;
+        // A crop's EXR says where its pixels lie in the full frame.
+        const pn::CropWindow& w = impl_->film.window();
+        wo.dataOriginX = w.x0;
+        wo.dataOriginY = w.y0;
+        wo.fullWidth = impl_->film.fullWidth();
+        wo.fullHeight = impl_->film.fullHeight();
         wo.metadata = pn::ImageMetadata{int(impl_->film.sampleCount()), impl_->seed, impl_->renderSeconds,
                                         std::string("Penumbra ") + PENUMBRA_VERSION};
         pn::writeImage(path, impl_->film, wo);

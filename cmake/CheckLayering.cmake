@@ -9,7 +9,8 @@
 #   <- apps points one way. The public headers (api/include/penumbra/) include
 #   only the standard library and each other; below api/ only
 #   <penumbra/types.hpp> (the value types, std-only) may be included, never the
-#   facade; the penumbra CLI (apps/penumbra/) includes only public headers.
+#   facade; the penumbra CLI (apps/penumbra/) and penumbra-mpi (apps/mpi/)
+#   include only public headers, like any other host.
 # Usage: cmake -DSOURCE_DIR=<repo> -P CheckLayering.cmake
 file(GLOB_RECURSE _files RELATIVE ${SOURCE_DIR}
      ${SOURCE_DIR}/core/*.h ${SOURCE_DIR}/core/*.hpp ${SOURCE_DIR}/core/*.cpp
@@ -17,7 +18,8 @@ file(GLOB_RECURSE _files RELATIVE ${SOURCE_DIR}
      ${SOURCE_DIR}/lights/*.h ${SOURCE_DIR}/lights/*.cpp
      ${SOURCE_DIR}/shading/*.h ${SOURCE_DIR}/shading/*.cpp
      ${SOURCE_DIR}/api/*.h ${SOURCE_DIR}/api/*.hpp ${SOURCE_DIR}/api/*.cpp
-     ${SOURCE_DIR}/apps/penumbra/*.h ${SOURCE_DIR}/apps/penumbra/*.cpp)
+     ${SOURCE_DIR}/apps/penumbra/*.h ${SOURCE_DIR}/apps/penumbra/*.cpp
+     ${SOURCE_DIR}/apps/mpi/*.h ${SOURCE_DIR}/apps/mpi/*.cpp)
 set(_errors "")
 foreach(_f IN LISTS _files)
   file(STRINGS ${SOURCE_DIR}/${_f} _includes REGEX "^[ \t]*#[ \t]*include")
@@ -70,7 +72,7 @@ foreach(_f IN LISTS _files)
     if(_f STREQUAL "api/include/penumbra/types.hpp" AND _line MATCHES "<penumbra/")
       list(APPEND _errors "${_f}: the value types include only the standard library: ${_line}")
     endif()
-    if(_f MATCHES "^apps/penumbra/" AND _line MATCHES "\"(core|accel|lights|shading|api)/")
+    if(_f MATCHES "^apps/(penumbra|mpi)/" AND _line MATCHES "\"(core|accel|lights|shading|api)/")
       list(APPEND _errors "${_f}: the CLI uses the public API only: ${_line}")
     endif()
   endforeach()

@@ -60,6 +60,20 @@ public:
 
     void clear();
 
+    /// Copies the pixels of `tile`, a film of the same full frame whose window
+    /// lies inside this one's, into this film; the sample count becomes the
+    /// tile's. Tiles rendered apart (other threads, processes or machines)
+    /// assemble into the exact film of one render. Throws Error(InvalidArgument)
+    /// when the frames, windows, AOVs or (on a film that has samples) the
+    /// sample counts differ.
+    void paste(const Film& tile);
+
+    /// The film as bytes (frame, window, sample count, sums in native byte
+    /// order) and back, for moving it between processes of one machine type.
+    /// deserialize throws Error(InvalidArgument) for bytes that are not a film.
+    std::vector<uint8_t> serialize() const;
+    static Film deserialize(const uint8_t* data, size_t size);
+
 private:
     int fullWidth_ = 0, fullHeight_ = 0;
     CropWindow window_;

@@ -71,7 +71,16 @@ Bytes encodeWithOiio(const fs::path& path, oiio::EncodeRequest& rq) {
     return out;
 }
 
-Bytes encodeAovExr(const fs::path& path, const Film& film, const ImageMetadata& meta, bool withRadiance) {
+// A crop's EXR records its place in the full frame, so compositors assemble crops without offsets.
+void placeCrop(oiio::EncodeRequest& rq, const ImageWriteOptions& o) {
+    if (o.fullWidth <= 0 || o.fullHeight <= 0) return;
+    rq.dataX = o.dataOriginX;
+    rq.dataY = o.dataOriginY;
+    rq.fullWidth = o.fullWidth;
+    rq.fullHeight = o.fullHeight;
+}
+
+Bytes encodeAovExr(const fs::path& path, const Film& film, const ImageWriteOptions& options, bool withRadiance) {
     const int w = film.width(), h = film.height();
     const int nch = (withRadiance ? 3 : 0) + 7;
     oiio::EncodeRequest rq;
@@ -82,7 +91,8 @@ Bytes encodeAovExr(const fs::path& path, const Film& film, const ImageMetadata& 
     rq.type = oiio::PixelType::F32;
     if (withRadiance) rq.channelNames = {"R", "G", "B"};
     for (const char* c : {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z"}) rq.channelNames.push_back(c);
-    rq.attributes = metadataAttributes(meta);
+    rq.attributes = metadataAttributes(options.metadata);
+    placeCrop(rq, options);
     std::vector<float> px(size_t(w) * h * nch);
     for (size_t i = 0, n = size_t(w) * h; i < n; ++i) {
         float* p = &px[i * nch];
@@ -126,6 +136,7 @@ Bytes encodeImage(const fs::path& path, ImageFormat fmt, const Film& film, const
     }
     if (isFloatFormat(fmt)) {
         rq.type = oiio::PixelType::F32;
+        if (fmt == ImageFormat::Exr) placeCrop(rq, options);
         const std::vector<float> px = film.radianceBuffer(3);
         rq.pixels = px.data();
         return encodeWithOiio(path, rq);
@@ -192,13 +203,13 @@ void writeImage(const fs::path& path, const Film& film, const ImageWriteOptions&
     // complete on disk (as a temporary) before any is renamed into place, so a
     // failure leaves the old images (main and AOV sibling) as they were.
     if (fmt == ImageFormat::Exr && options.aovs && film.hasAovs()) {
-        writeFileAtomically(path, encodeAovExr(path, film, options.metadata, true), "image");
+        writeFileAtomically(path, encodeAovExr(path, film, options, true), "image");
         return;
     }
     const Bytes main = encodeImage(path, fmt, film, options);
     if (options.aovs && film.hasAovs()) {
         const fs::path aovPath = path.parent_path() / (path.stem().string() + ".aovs.exr");
-        const Bytes aovs = encodeAovExr(aovPath, film, options.metadata, false);
+        const Bytes aovs = encodeAovExr(aovPath, film, options, false);
         StagedFile stagedAovs(aovPath, aovs, "image");
         StagedFile stagedMain(path, main, "image");
         stagedAovs.commit();

@@ -32,6 +32,11 @@ struct ImageWriteOptions {
     float exposure = 0.f;  // stops; LDR formats only (float formats are written exactly as computed)
     bool aovs = false;     // EXR: extra channels; other formats: a sibling <stem>.aovs.exr
     ImageMetadata metadata;
+    // Where the film's pixels lie in the full frame: EXRs record a data window
+    // at (dataOriginX, dataOriginY) inside a fullWidth x fullHeight display
+    // window; other formats ignore it. 0 x 0 (the default): the whole image.
+    int dataOriginX = 0, dataOriginY = 0;
+    int fullWidth = 0, fullHeight = 0;
 };
 
 /// Writes the film's averaged radiance. Float formats get the linear values

@@ -10,6 +10,7 @@ packages=(
   python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio
   gnuplot-nox
   clang libclang-rt-14-dev
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "cli_options.h"
+#include "cli_settings.h"
 #include "clobber_check.h"
 #include "progress_reporter.h"
 
@@ -52,46 +53,6 @@ bool isExr(const fs::path& p) {
     std::string e = p.extension().string();
     std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return e == ".exr";
-}
-
-/// The scene file's settings (`fromScene`), overridden by the command line.
-pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings s) {
-    if (o.width) s.width = *o.width;
-    if (o.height) s.height = *o.height;
-    if (o.spp) s.spp = *o.spp;
-    if (o.lightSamples) s.lightSamples = *o.lightSamples;
-    if (o.maxDepth) s.maxDepth = *o.maxDepth;
-    if (o.threads) s.threads = *o.threads;
-    if (o.tileSize) s.tileSize = *o.tileSize;
-    if (o.seed) s.seed = *o.seed;
-    if (o.lightSelection)
-        s.lightSelection = *o.lightSelection == "power" ? pnb::LightSelection::Power : pnb::LightSelection::All;
-    s.crop = o.crop;
-    s.aovs = o.aovs;
-    return s;
-}
-
-void applyCameraOptions(const Options& o, pnb::Camera& c) {
-    if (o.eye) c.eye = *o.eye;
-    if (o.lookAt) c.lookAt = *o.lookAt;
-    if (o.up) c.up = *o.up;
-    if (o.fov) c.vfovDegrees = *o.fov;
-    if (o.aperture) c.aperture = *o.aperture;
-    if (o.focusDistance) c.focusDistance = *o.focusDistance;
-}
-
-// --ambient and --background go through pnb::Scene, which holds them to the
-// same limits as a scene file's values; errors name the option.
-void applyLightOptions(const Options& o, pnb::Scene& scene) {
-    auto named = [](const char* option, auto&& apply) {
-        try {
-            apply();
-        } catch (const Error& e) {
-            throw Error(e.code(), std::string(option) + ": " + e.what());
-        }
-    };
-    if (o.ambient) named("--ambient", [&] { scene.setAmbient(*o.ambient); });
-    if (o.background) named("--background", [&] { scene.setBackground(*o.background); });
 }
 
 /// What the command writes: the image, its AOV sibling, the statistics.
@@ -217,9 +178,7 @@ int runSteps(const Options& o, std::string& step) {
 
     pnb::PrepareOptions prep;
     prep.accelerator = o.accel;
-    prep.quality = o.buildQuality == "low"      ? pnb::BuildQuality::Low
-                   : o.buildQuality == "medium" ? pnb::BuildQuality::Medium
-                                                : pnb::BuildQuality::High;
+    prep.quality = buildQualityOf(o);
     step = o.scene.string() + ": out of memory while preparing the scene (acceleration structure, lights, textures)";
     const pnb::PreparedScene prepared = renderer.prepare(std::move(scene), prep);
 

@@ -38,6 +38,9 @@ struct EncodeRequest {
     const void* pixels = nullptr;
     std::vector<std::string> channelNames;  // empty: OpenImageIO's defaults (R, G, B)
     std::vector<Attribute> attributes;
+    // EXR only: the pixels are the data window at (dataX, dataY) of a
+    // fullWidth x fullHeight display window (a crop that knows its place); 0 x 0: the whole image.
+    int dataX = 0, dataY = 0, fullWidth = 0, fullHeight = 0;
 };
 
 /// What a decoder found; pixels are filled only when the image fits the budget.

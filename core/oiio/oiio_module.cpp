@@ -118,6 +118,13 @@ bool encode(const EncodeRequest& rq, std::vector<unsigned char>& out, std::strin
             spec.channelnames = rq.channelNames;
             spec.alpha_channel = -1;
         }
+        if (rq.fullWidth > 0 && rq.fullHeight > 0) {
+            spec.x = rq.dataX;
+            spec.y = rq.dataY;
+            spec.full_x = spec.full_y = 0;
+            spec.full_width = rq.fullWidth;
+            spec.full_height = rq.fullHeight;
+        }
         for (const Attribute& a : rq.attributes) {
             if (a.kind == Attribute::Kind::Int) spec.attribute(a.name, a.i);
             else if (a.kind == Attribute::Kind::Float) spec.attribute(a.name, a.f);

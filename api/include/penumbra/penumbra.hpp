@@ -307,8 +307,24 @@ public:
 
     /// Forgets all samples.
     void clear();
+    /// Copies the pixels of `tile` (a framebuffer of the same full frame whose
+    /// window lies inside this one's, rendered elsewhere with the same settings
+    /// and crop set to its window) into this one; the sample count becomes the
+    /// tile's and its render time is added. Tiles assemble into the exact image
+    /// of one render. Throws Error(InvalidArgument) for another frame, a window
+    /// outside this one, AOVs in one only, or a sample count other than this
+    /// framebuffer's (unless it has none yet).
+    void paste(const Framebuffer& tile);
+    /// The framebuffer's state as bytes (frame, window, samples, sums; native
+    /// byte order), to move it between processes of one machine type (MPI);
+    /// deserialize gives it back, and throws Error(InvalidArgument) for bytes
+    /// that are not a framebuffer.
+    std::vector<std::uint8_t> serialize() const;
+    static Framebuffer deserialize(const std::uint8_t* data, std::size_t size);
     /// Writes the averaged radiance: .exr/.hdr/.pfm linear, .png/.jpg/.tif
-    /// exposure-scaled and sRGB-encoded. Written to a temporary file and
+    /// exposure-scaled and sRGB-encoded. An EXR of a crop window records the
+    /// window's place in the full frame (data window inside the display
+    /// window), so compositors assemble crops. Written to a temporary file and
     /// renamed, so a failure leaves no partial image. Throws Error(IoError /
     /// InvalidArgument) naming the file.
     void writeImage(const std::string& path, const ImageOptions& options = {}) const;

@@ -1,0 +1,320 @@
+// penumbra-mpi: one frame rendered by the ranks of an MPI job.
+//   mpirun -np N penumbra-mpi SCENE.{obj,json} -o OUT.{exr,...} [penumbra's options]
+// Every rank loads the scene through the public API; rank 0 hands out tiles
+// as workers finish them, pastes the returned framebuffers into the frame and
+// writes the image: the same image, bit for bit, as `penumbra` with the same
+// options, for any number of ranks. Exit codes as penumbra's; a failing rank
+// ends the job with one error line from rank 0 and no image written.
+#include <mpi.h>
+#include <sys/resource.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <penumbra/penumbra.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cli_options.h"
+#include "cli_settings.h"
+#include "clobber_check.h"
+#include "coordinator.h"
+#include "job.h"
+#include "progress_reporter.h"
+#include "worker.h"
+
+namespace penumbra::mpi {
+namespace {
+
+namespace fs = std::filesystem;
+using cli::Options;
+using pnb::Error;
+using pnb::ErrorCode;
+
+double peakMemoryMiB() {
+    rusage ru{};
+    ::getrusage(RUSAGE_SELF, &ru);
+    return double(ru.ru_maxrss) / 1024.0;
+}
+
+/// Runs `f` with stdout and stderr sent to /dev/null: ranks other than 0 parse
+/// the same command line, and only rank 0 may say what is wrong with it.
+template <class F>
+auto silenced(F&& f) -> decltype(f()) {
+    std::fflush(stdout);
+    std::fflush(stderr);
+    const int out = ::dup(1), err = ::dup(2), null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    auto restore = [&] {
+        std::fflush(stdout);
+        std::fflush(stderr);
+        ::dup2(out, 1);
+        ::dup2(err, 2);
+        ::close(out);
+        ::close(err);
+        ::close(null);
+    };
+    try {
+        auto r = f();
+        restore();
+        return r;
+    } catch (...) {
+        restore();
+        throw;
+    }
+}
+
+std::vector<cli::OutputFile> outputsOf(const Options& o) {
+    std::vector<cli::OutputFile> out{{o.output, "-o"}};
+    std::string e = o.output.extension().string();
+    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (o.aovs && e != ".exr")
+        out.push_back({o.output.parent_path() / (o.output.stem().string() + ".aovs.exr"), "-o (its AOV image)"});
+    if (!o.statsJson.empty()) out.push_back({o.statsJson, "--stats-json"});
+    return out;
+}
+
+// Rank 0's checks of what only it writes, before any work (as penumbra's).
+void precheckOutputs(const Options& o) {
+    pnb::checkImagePath(o.output.string());
+    if (!o.statsJson.empty()) {
+        auto dir = o.statsJson.parent_path().empty() ? fs::path(".") : o.statsJson.parent_path();
+        if (!fs::is_directory(dir))
+            throw Error(ErrorCode::IoError, o.statsJson.string() + ": folder '" + dir.string() + "' does not exist");
+    }
+    const std::vector<cli::OutputFile> outputs = outputsOf(o);
+    for (size_t i = 0; i < outputs.size(); ++i) {
+        cli::refuseOverwrite(outputs[i], o.scene, "the scene file");
+        for (size_t k = 0; k < i; ++k) cli::refuseSameOutput(outputs[k], outputs[i]);
+    }
+}
+
+/// What setting up gave this rank.
+struct Setup {
+    SetupReport report;
+    std::optional<Job> job;          // rank 0: the settings and camera every rank renders with
+    pnb::PreparedScene prepared;     // ranks that render
+};
+
+Setup setUp(const Options& o, pnb::Renderer& renderer, int rank, int size) {
+    Setup setup;
+    setup.report.host = processorName();
+    const bool renders = rank != 0 || size == 1;
+    try {
+        if (rank == 0) precheckOutputs(o);
+        pnb::LoadOptions loadOptions;
+        loadOptions.strict = o.strict;
+        loadOptions.restrictPaths = false;
+        std::set<fs::path> read, outside;
+        loadOptions.onRead = [&](const std::string& file, bool isOutside) {
+            read.insert(file);
+            if (isOutside) outside.insert(file);
+        };
+        pnb::Scene scene = renderer.loadScene(o.scene.string(), loadOptions);
+        setup.report.primitives = std::int64_t(scene.primitiveCount());
+        setup.report.triangles = std::int64_t(scene.triangleCount());
+        setup.report.materials = std::int64_t(scene.materialCount());
+        if (rank == 0) {
+            for (const cli::OutputFile& output : outputsOf(o))
+                for (const fs::path& input : read) cli::refuseOverwrite(output, input, "a file the scene reads");
+            if (!outside.empty())
+                std::fprintf(stderr, "penumbra-mpi: warning: %s: reads %zu file(s) outside the scene's folder, first %s\n",
+                             o.scene.string().c_str(), outside.size(), outside.begin()->string().c_str());
+            Job job;
+            job.settings = cli::settingsFrom(o, scene.settings());
+            pnb::validate(job.settings);
+            job.camera = scene.defaultCamera(float(job.settings.width) / float(job.settings.height), o.fov.value_or(40.f));
+            cli::applyCameraOptions(o, job.camera);
+            pnb::validate(job.camera);
+            setup.job = job;
+        }
+        cli::applyLightOptions(o, scene);
+        if (renders) {
+            if (rank == 1) renderer.setLog({}, pnb::LogLevel::Warning);  // scene repairs, said once
+            pnb::PrepareOptions prep;
+            prep.accelerator = o.accel;
+            prep.quality = cli::buildQualityOf(o);
+            setup.prepared = renderer.prepare(std::move(scene), prep);
+            setup.report.lights = std::int64_t(setup.prepared.lightCount());
+            setup.report.buildSeconds = setup.prepared.buildSeconds();
+            setup.report.accelerator = setup.prepared.accelerator();
+        }
+    } catch (const std::bad_alloc&) {
+        setup.report.error = o.scene.string() + ": out of memory while loading or preparing the scene";
+    } catch (const std::exception& e) {
+        setup.report.error = e.what();
+    }
+    return setup;
+}
+
+/// Rank 0: the first problem of any rank (its own first), or "" when all is well.
+std::string firstProblem(const std::vector<SetupReport>& reports, const Options& o) {
+    if (!reports[0].error.empty()) return reports[0].error;
+    for (size_t r = 1; r < reports.size(); ++r)
+        if (!reports[r].error.empty()) return rankName(int(r), reports[r].host) + ": " + reports[r].error;
+    for (size_t r = 1; r < reports.size(); ++r) {
+        const SetupReport &a = reports[0], &b = reports[r];
+        if (a.primitives != b.primitives || a.triangles != b.triangles || a.materials != b.materials)
+            return rankName(int(r), b.host) + ": " + o.scene.string() + " holds " + std::to_string(b.primitives) +
+                   " primitives, " + std::to_string(b.triangles) + " triangles and " + std::to_string(b.materials) +
+                   " materials there, but " + std::to_string(a.primitives) + ", " + std::to_string(a.triangles) +
+                   " and " + std::to_string(a.materials) + " on rank 0: every rank must read the same scene";
+    }
+    return {};
+}
+
+void writeStatsJson(const Options& o, const pnb::RenderSettings& s, const SetupReport& scene, int ranks,
+                    const FrameResult& f, double totalSeconds) {
+    nlohmann::json j;
+    j["scene"] = o.scene.string();
+    j["output"] = o.output.string();
+    j["accelerator"] = scene.accelerator;
+    j["width"] = s.width;
+    j["height"] = s.height;
+    j["spp"] = s.spp;
+    j["light_samples"] = s.lightSamples;
+    j["max_depth"] = s.maxDepth;
+    j["seed"] = s.seed;
+    j["ranks"] = ranks;
+    j["tiles"] = f.tileCount;
+    j["tiles_per_rank"] = f.tilesPerRank;
+    j["triangles"] = scene.triangles;
+    j["primitives"] = scene.primitives;
+    j["lights"] = scene.lights;
+    j["build_seconds"] = scene.buildSeconds;
+    j["render_seconds"] = f.wallSeconds;
+    j["rank_render_seconds"] = f.totals.renderSeconds;
+    j["total_seconds"] = totalSeconds;
+    const WorkerTotals& t = f.totals;
+    j["rays"] = {{"camera", t.cameraRays},
+                 {"shadow", t.shadowRays},
+                 {"reflection", t.reflectionRays},
+                 {"total", t.cameraRays + t.shadowRays + t.reflectionRays},
+                 {"invalid", t.invalidRays}};
+    j["nonfinite_samples_dropped"] = t.nonFiniteSamples;
+    j["peak_memory_mib_rank0"] = peakMemoryMiB();
+    std::ofstream out(o.statsJson);
+    out << j.dump(2) << "\n";
+    out.flush();
+    out.close();
+    if (!out) throw Error(ErrorCode::IoError, o.statsJson.string() + ": cannot write statistics");
+}
+
+int run(int argc, char** argv, int rank, int size) {
+    const auto t0 = std::chrono::steady_clock::now();
+    // Every rank reads the same command line; only rank 0 speaks about it.
+    cli::ParseResult parsed;
+    std::string parseError;
+    try {
+        parsed = rank == 0 ? cli::parseCommandLine(argc, argv) : silenced([&] { return cli::parseCommandLine(argc, argv); });
+    } catch (const std::exception& e) {
+        parseError = e.what();
+    }
+    if (!parseError.empty()) {
+        if (rank == 0) std::fprintf(stderr, "penumbra-mpi: error: %s\n", parseError.c_str());
+        return 1;
+    }
+    if (!parsed.options) return parsed.exitCode;
+    const Options& o = *parsed.options;
+
+    // Rank 0 and the renderers other than rank 1 keep quiet about the scene:
+    // rank 0 reports what matters once.
+    pnb::Renderer renderer;
+    if (rank >= 2) renderer.setLog([](pnb::LogLevel, std::string_view) {}, pnb::LogLevel::Error);
+    if (rank == 1) renderer.setLog([](pnb::LogLevel, std::string_view) {}, pnb::LogLevel::Error);
+    Setup setup = setUp(o, renderer, rank, size);
+
+    const std::vector<SetupReport> reports = gatherReports(setup.report, rank, size);
+    std::optional<Job> decided;
+    if (rank == 0) {
+        const std::string problem = firstProblem(reports, o);
+        if (!problem.empty())
+            std::fprintf(stderr, "penumbra-mpi: error: %s\n", problem.c_str());
+        else
+            decided = setup.job;
+    }
+    const std::optional<Job> job = broadcastJob(decided, rank);
+    if (!job) return 1;
+
+    if (rank != 0) {
+        runWorker(renderer, setup.prepared, *job, rank, setup.report.host);
+        return 0;
+    }
+
+    const pnb::RenderSettings& settings = job->settings;
+    cli::ProgressReporter progress(o.quiet);
+    FrameResult frame;
+    const SetupReport& sceneReport = size == 1 ? reports[0] : reports[1];
+    if (size == 1) {
+        // Alone, rank 0 renders the frame itself.
+        pnb::RenderControl control;
+        control.tileProgress = [&](size_t done, size_t total) { progress.update(done, total); };
+        frame.image = pnb::Framebuffer(settings);
+        const auto r0 = std::chrono::steady_clock::now();
+        const pnb::RenderStats st = renderer.render(setup.prepared, job->camera, settings, frame.image, control);
+        frame.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+        frame.totals = {st.cameraRays, st.shadowRays, st.reflectionRays, st.invalidRays, st.nonFiniteSamples, 1,
+                        st.renderSeconds};
+        frame.tilesPerRank = {1};
+        frame.tileCount = 1;
+    } else {
+        frame = runCoordinator(*job, size, [&](size_t done, size_t total) { progress.update(done, total); });
+    }
+    progress.finish();
+
+    pnb::ImageOptions wo;
+    wo.exposure = o.exposure;
+    wo.aovs = o.aovs;
+    frame.image.writeImage(o.output.string(), wo);
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!o.statsJson.empty()) writeStatsJson(o, settings, sceneReport, size, frame, total);
+
+    if (!o.quiet) {
+        const WorkerTotals& t = frame.totals;
+        const double rays = double(t.cameraRays + t.shadowRays + t.reflectionRays);
+        std::string perRank;
+        for (int r = (size == 1 ? 0 : 1); r < size; ++r)
+            perRank += (perRank.empty() ? "" : ", ") + std::to_string(frame.tilesPerRank[size_t(r)]);
+        std::fprintf(stderr,
+                     "penumbra-mpi: %lld primitives (%lld triangles), %lld lights, accelerator %s; build %.3f s\n"
+                     "penumbra-mpi: render %.3f s on %d rank(s): %zu tiles, per worker rank %s\n"
+                     "penumbra-mpi: rays: %llu camera, %llu shadow, %llu reflection (%.2f Mrays/s)\n",
+                     (long long)sceneReport.primitives, (long long)sceneReport.triangles, (long long)sceneReport.lights,
+                     sceneReport.accelerator.c_str(), sceneReport.buildSeconds, frame.wallSeconds, size,
+                     frame.tileCount, perRank.c_str(), (unsigned long long)t.cameraRays,
+                     (unsigned long long)t.shadowRays, (unsigned long long)t.reflectionRays,
+                     frame.wallSeconds > 0 ? rays / frame.wallSeconds / 1e6 : 0.0);
+        if (t.nonFiniteSamples || t.invalidRays)
+            std::fprintf(stderr, "penumbra-mpi: dropped %llu non-finite samples, %llu invalid rays\n",
+                         (unsigned long long)t.nonFiniteSamples, (unsigned long long)t.invalidRays);
+        std::printf("penumbra-mpi: wrote %s (%dx%d, %d spp) in %.2f s\n", o.output.string().c_str(),
+                    frame.image.width(), frame.image.height(), settings.spp, total);
+    }
+    return 0;
+}
+
+}  // namespace
+}  // namespace penumbra::mpi
+
+int main(int argc, char** argv) {
+    MPI_Init(&argc, &argv);
+    int rank = 0, size = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    int code = 1;
+    try {
+        code = penumbra::mpi::run(argc, argv, rank, size);
+    } catch (const std::exception& e) {
+        // Past the setup only rank 0 can fail here (writing the image); the
+        // workers have finished.
+        std::fprintf(stderr, "penumbra-mpi: error: %s\n", e.what());
+        code = 1;
+    }
+    MPI_Finalize();
+    return code;
+}

@@ -1,0 +1,24 @@
+// What the command-line options do to the scene's settings, camera and light:
+// shared by penumbra and penumbra-mpi, so both render the same image.
+#pragma once
+
+#include <penumbra/penumbra.hpp>
+
+#include "cli_options.h"
+
+namespace penumbra::cli {
+
+/// The scene file's settings (`fromScene`), overridden by the command line.
+pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings fromScene);
+
+/// --eye, --look-at, --up, --fov, --aperture, --focus-distance.
+void applyCameraOptions(const Options& o, pnb::Camera& c);
+
+/// --ambient and --background, through pnb::Scene, which holds them to the
+/// same limits as a scene file's values; errors name the option.
+void applyLightOptions(const Options& o, pnb::Scene& scene);
+
+/// --build-quality.
+pnb::BuildQuality buildQualityOf(const Options& o);
+
+}  // namespace penumbra::cli

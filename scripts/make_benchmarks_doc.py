@@ -187,9 +187,11 @@ def main():
     out.append("```\n" + bench_log.rstrip() + "\n```\n")
     out.append("\n### Raw output of the anchors (`docs/bench_anchors.txt`; all runs in `docs/bench_anchors.json`)\n\n")
     out.append("```\n" + anchors_log.rstrip() + "\n```\n")
-    scale = ROOT / "scripts" / "benchmarks_doc_scale.md"
-    if scale.exists():
-        out.append("\n" + scale.read_text())
+    # Sections measured by separate runs, each with its own commands and output.
+    for part in ("benchmarks_doc_scale.md", "benchmarks_doc_loading.md"):
+        path = ROOT / "scripts" / part
+        if path.exists():
+            out.append("\n" + path.read_text())
     Path(a.out).write_text("".join(out))
 
 

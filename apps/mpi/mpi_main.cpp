@@ -12,7 +12,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <penumbra/penumbra.hpp>
 #include <set>
@@ -21,7 +20,7 @@
 
 #include "cli_options.h"
 #include "cli_settings.h"
-#include "clobber_check.h"
+#include "outputs.h"
 #include "coordinator.h"
 #include "job.h"
 #include "progress_reporter.h"
@@ -69,31 +68,6 @@ auto silenced(F&& f) -> decltype(f()) {
     }
 }
 
-std::vector<cli::OutputFile> outputsOf(const Options& o) {
-    std::vector<cli::OutputFile> out{{o.output, "-o"}};
-    std::string e = o.output.extension().string();
-    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (o.aovs && e != ".exr")
-        out.push_back({o.output.parent_path() / (o.output.stem().string() + ".aovs.exr"), "-o (its AOV image)"});
-    if (!o.statsJson.empty()) out.push_back({o.statsJson, "--stats-json"});
-    return out;
-}
-
-// Rank 0's checks of what only it writes, before any work (as penumbra's).
-void precheckOutputs(const Options& o) {
-    pnb::checkImagePath(o.output.string());
-    if (!o.statsJson.empty()) {
-        auto dir = o.statsJson.parent_path().empty() ? fs::path(".") : o.statsJson.parent_path();
-        if (!fs::is_directory(dir))
-            throw Error(ErrorCode::IoError, o.statsJson.string() + ": folder '" + dir.string() + "' does not exist");
-    }
-    const std::vector<cli::OutputFile> outputs = outputsOf(o);
-    for (size_t i = 0; i < outputs.size(); ++i) {
-        cli::refuseOverwrite(outputs[i], o.scene, "the scene file");
-        for (size_t k = 0; k < i; ++k) cli::refuseSameOutput(outputs[k], outputs[i]);
-    }
-}
-
 /// What setting up gave this rank.
 struct Setup {
     SetupReport report;
@@ -106,7 +80,7 @@ Setup setUp(const Options& o, pnb::Renderer& renderer, int rank, int size) {
     setup.report.host = processorName();
     const bool renders = rank != 0 || size == 1;
     try {
-        if (rank == 0) precheckOutputs(o);
+        if (rank == 0) cli::precheckOutputs(o);
         pnb::LoadOptions loadOptions;
         loadOptions.strict = o.strict;
         loadOptions.restrictPaths = false;
@@ -120,8 +94,7 @@ Setup setUp(const Options& o, pnb::Renderer& renderer, int rank, int size) {
         setup.report.triangles = std::int64_t(scene.triangleCount());
         setup.report.materials = std::int64_t(scene.materialCount());
         if (rank == 0) {
-            for (const cli::OutputFile& output : outputsOf(o))
-                for (const fs::path& input : read) cli::refuseOverwrite(output, input, "a file the scene reads");
+            cli::refuseOverwritingInputs(o, read);
             if (!outside.empty())
                 std::fprintf(stderr, "penumbra-mpi: warning: %s: reads %zu file(s) outside the scene's folder, first %s\n",
                              o.scene.string().c_str(), outside.size(), outside.begin()->string().c_str());
@@ -198,11 +171,7 @@ void writeStatsJson(const Options& o, const pnb::RenderSettings& s, const SetupR
                  {"invalid", t.invalidRays}};
     j["nonfinite_samples_dropped"] = t.nonFiniteSamples;
     j["peak_memory_mib_rank0"] = peakMemoryMiB();
-    std::ofstream out(o.statsJson);
-    out << j.dump(2) << "\n";
-    out.flush();
-    out.close();
-    if (!out) throw Error(ErrorCode::IoError, o.statsJson.string() + ": cannot write statistics");
+    cli::writeStatistics(o.statsJson, j.dump(2) + "\n");
 }
 
 int run(int argc, char** argv, int rank, int size) {

@@ -14,7 +14,6 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <fstream>
 #include <new>
 #include <nlohmann/json.hpp>
 #include <penumbra/penumbra.hpp>
@@ -23,7 +22,7 @@
 
 #include "cli_options.h"
 #include "cli_settings.h"
-#include "clobber_check.h"
+#include "outputs.h"
 #include "progress_reporter.h"
 
 namespace penumbra::cli {
@@ -49,29 +48,8 @@ double peakMemoryMiB() {
     return double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
-bool isExr(const fs::path& p) {
-    std::string e = p.extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return e == ".exr";
-}
-
-/// What the command writes: the image, its AOV sibling, the statistics.
-std::vector<OutputFile> outputsOf(const Options& o) {
-    std::vector<OutputFile> out{{o.output, "-o"}};
-    if (o.aovs && !isExr(o.output))
-        out.push_back({o.output.parent_path() / (o.output.stem().string() + ".aovs.exr"), "-o (its AOV image)"});
-    if (!o.statsJson.empty()) out.push_back({o.statsJson, "--stats-json"});
-    return out;
-}
-
 // Everything that can be checked without reading the scene, checked before any work.
 void precheck(const Options& o) {
-    pnb::checkImagePath(o.output.string());
-    if (!o.statsJson.empty()) {
-        auto dir = o.statsJson.parent_path().empty() ? fs::path(".") : o.statsJson.parent_path();
-        if (!fs::is_directory(dir))
-            throw Error(ErrorCode::IoError, o.statsJson.string() + ": folder '" + dir.string() + "' does not exist");
-    }
     pnb::RenderSettings s = settingsFrom(o, {});
     s.crop.reset();  // the crop is checked against the final size later
     pnb::validate(s);
@@ -86,11 +64,7 @@ void precheck(const Options& o) {
     // symlink_status: a symlink loop or a FIFO exists, and the loader says what it is.
     if (fs::symlink_status(o.scene, ec).type() == fs::file_type::not_found)
         throw Error(ErrorCode::FileNotFound, o.scene.string() + ": no such file");
-    const std::vector<OutputFile> outputs = outputsOf(o);
-    for (size_t i = 0; i < outputs.size(); ++i) {
-        refuseOverwrite(outputs[i], o.scene, "the scene file");
-        for (size_t k = 0; k < i; ++k) refuseSameOutput(outputs[k], outputs[i]);
-    }
+    precheckOutputs(o);
 }
 
 // Written in full or reported: a short write (a full disk, /dev/full) is an error.
@@ -121,11 +95,7 @@ void writeStatsJson(const fs::path& path, const Options& o, const pnb::RenderSet
     j["nonfinite_samples_dropped"] = st.nonFiniteSamples;
     j["mrays_per_second"] = st.mraysPerSecond;
     j["peak_memory_mib"] = peakMemoryMiB();
-    std::ofstream out(path);
-    out << j.dump(2) << "\n";
-    out.flush();
-    out.close();
-    if (!out) throw Error(ErrorCode::IoError, path.string() + ": cannot write statistics");
+    writeStatistics(path, j.dump(2) + "\n");
 }
 
 /// Bytes the largest buffers of a render hold at once: the framebuffer, plus
@@ -156,8 +126,7 @@ int runSteps(const Options& o, std::string& step) {
     };
     step = o.scene.string() + ": out of memory while loading the scene";
     pnb::Scene scene = renderer.loadScene(o.scene.string(), loadOptions);
-    for (const OutputFile& output : outputsOf(o))
-        for (const fs::path& input : read) refuseOverwrite(output, input, "a file the scene reads");
+    refuseOverwritingInputs(o, read);
     if (!outside.empty())
         std::fprintf(stderr, "penumbra: warning: %s: reads %zu file(s) outside the scene's folder, first %s\n",
                      o.scene.string().c_str(), outside.size(), outside.begin()->string().c_str());

@@ -86,6 +86,39 @@ TEST(CliFullDisk, EveryFormatFailsCleanlyAndKeepsTheOldImage) {
     }
 }
 
+// --stats-json on a full disk: an error naming the file, and the statistics of
+// the previous run stay as they were (the file is replaced only when complete).
+TEST(CliFullDisk, StatisticsAreWrittenWholeOrNotAtAll) {
+    const fs::path root = test::tempDir(), dir = root / "statsdisk";
+    fs::create_directories(dir);
+    if (::mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=64k") != 0)
+        GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << ")";
+    struct Unmount {
+        fs::path d;
+        ~Unmount() { ::umount2(d.c_str(), MNT_DETACH); }
+    } unmount{dir};
+    const std::string scene = test::assetPath("cornell/cornell.obj").string();
+    const fs::path image = root / "stats_image.pfm", stats = dir / "stats.json";
+    const std::string args = scene + " -q --width 8 --height 8 --spp 1 -o " + image.string() + " --stats-json " + stats.string();
+    CliRun first = penumbra(args);
+    ASSERT_EQ(first.exitCode, 0) << first.output;
+    const std::string good = readBytes(stats);
+    ASSERT_NE(good.find("\"render_seconds\""), std::string::npos) << good;
+    {
+        struct statvfs st {};
+        ASSERT_EQ(::statvfs(dir.c_str(), &st), 0);
+        std::ofstream filler(dir / "filler", std::ios::binary);
+        const std::string block(size_t(st.f_bavail) * st.f_frsize, 'x');
+        filler.write(block.data(), std::streamsize(block.size()));
+    }
+    CliRun full = penumbra(args);
+    EXPECT_EQ(full.exitCode, 1) << full.output;
+    EXPECT_NE(full.output.find(stats.string() + ": cannot write statistics"), std::string::npos) << full.output;
+    EXPECT_EQ(readBytes(stats), good) << "the old statistics were changed";
+    for (const auto& e : fs::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+}
+
 TEST(CApiFullDisk, WriteImageReturnsIoErrorAndKeepsTheOldImage) {
     const fs::path dir = test::tempDir() / "disk";
     fs::create_directories(dir);

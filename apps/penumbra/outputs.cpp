@@ -1,0 +1,113 @@
+#include "outputs.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <penumbra/penumbra.hpp>
+
+namespace penumbra::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using pnb::Error;
+using pnb::ErrorCode;
+
+[[noreturn]] void statisticsFailed(const fs::path& path, int error) {
+    throw Error(ErrorCode::IoError, path.string() + ": cannot write statistics: " + std::strerror(error));
+}
+
+// Every byte or an error (a full disk, /dev/full); EINTR retried.
+bool writeAll(int fd, const std::string& text) {
+    size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            if (n == 0) errno = ENOSPC;
+            return false;
+        }
+        done += size_t(n);
+    }
+    return true;
+}
+
+}  // namespace
+
+bool isExr(const fs::path& p) {
+    std::string e = p.extension().string();
+    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return e == ".exr";
+}
+
+std::vector<OutputFile> outputsOf(const Options& o) {
+    std::vector<OutputFile> out{{o.output, "-o"}};
+    if (o.aovs && !isExr(o.output))
+        out.push_back({o.output.parent_path() / (o.output.stem().string() + ".aovs.exr"), "-o (its AOV image)"});
+    if (!o.statsJson.empty()) out.push_back({o.statsJson, "--stats-json"});
+    return out;
+}
+
+void precheckOutputs(const Options& o) {
+    pnb::checkImagePath(o.output.string());
+    if (!o.statsJson.empty()) {
+        auto dir = o.statsJson.parent_path().empty() ? fs::path(".") : o.statsJson.parent_path();
+        if (!fs::is_directory(dir))
+            throw Error(ErrorCode::IoError, o.statsJson.string() + ": folder '" + dir.string() + "' does not exist");
+    }
+    const std::vector<OutputFile> outputs = outputsOf(o);
+    for (size_t i = 0; i < outputs.size(); ++i) {
+        refuseOverwrite(outputs[i], o.scene, "the scene file");
+        for (size_t k = 0; k < i; ++k) refuseSameOutput(outputs[k], outputs[i]);
+    }
+}
+
+void refuseOverwritingInputs(const Options& o, const std::set<fs::path>& read) {
+    for (const OutputFile& output : outputsOf(o))
+        for (const fs::path& input : read) refuseOverwrite(output, input, "a file the scene reads");
+}
+
+void writeStatistics(const fs::path& path, const std::string& text) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+        // Not a file to replace (a device, a FIFO, /dev/stdout): write it in place.
+        const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+        if (fd < 0) statisticsFailed(path, errno);
+        const bool ok = writeAll(fd, text);
+        const int error = errno;
+        ::close(fd);
+        if (!ok) statisticsFailed(path, error);
+        return;
+    }
+    const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+    // Appended piece by piece: GCC 12 warns (-Wrestrict, falsely) on "." + string.
+    std::string name(".");
+    name += path.filename().string();
+    name += ".tmp-";
+    name += std::to_string(::getpid());
+    name += '-';
+    name += std::to_string(std::chrono::steady_clock::now().time_since_epoch().count());
+    const fs::path temp = dir / name;
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) statisticsFailed(path, errno);
+    bool ok = writeAll(fd, text) && ::fsync(fd) == 0;
+    int error = errno;
+    if (::close(fd) != 0 && ok) {
+        ok = false;
+        error = errno;
+    }
+    if (ok && ::rename(temp.c_str(), path.c_str()) != 0) {
+        ok = false;
+        error = errno;
+    }
+    if (!ok) {
+        ::unlink(temp.c_str());
+        statisticsFailed(path, error);
+    }
+}
+
+}  // namespace penumbra::cli

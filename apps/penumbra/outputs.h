@@ -1,0 +1,38 @@
+// The files a render command writes (the image, its AOV sibling, the
+// statistics): which they are, the checks made before any work, and the
+// statistics file written all or nothing. Shared by penumbra and penumbra-mpi.
+#pragma once
+
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cli_options.h"
+#include "clobber_check.h"
+
+namespace penumbra::cli {
+
+/// The path names an OpenEXR file (by its extension, any case).
+bool isExr(const std::filesystem::path& p);
+
+/// What the command writes: -o, its `<stem>.aovs.exr` sibling (AOVs with a
+/// format other than EXR), --stats-json.
+std::vector<OutputFile> outputsOf(const Options& o);
+
+/// Before any work: the image path is writable in principle, the statistics'
+/// folder exists, no output is the scene file, no two outputs are one file.
+/// Throws pnb::Error.
+void precheckOutputs(const Options& o);
+
+/// After loading: no output is a file the scene reads (MTL, textures, meshes).
+void refuseOverwritingInputs(const Options& o, const std::set<std::filesystem::path>& read);
+
+/// Writes `text` to `path` in full or throws pnb::Error(IoError) naming it
+/// ("PATH: cannot write statistics: ..."). A regular file (or a new one) is
+/// written to a temporary beside it and renamed, so a failure leaves what was
+/// there; a path that is not a regular file (/dev/stdout, a FIFO) is written
+/// as it is, every write checked.
+void writeStatistics(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace penumbra::cli

@@ -38,6 +38,7 @@ struct Scene::Impl {
     pn::Scene scene;
     std::optional<pn::CameraDesc> camera;
     pn::SettingsPatch settings;
+    std::string source;  // the scene file it was loaded from; empty for a scene built in code
 };
 
 struct PreparedScene::Impl {
@@ -142,9 +143,6 @@ pn::Rgb in(const Color& c);
 Color out(const pn::Rgb& c);
 pn::Transform in(const Matrix3x4& m);
 Matrix3x4 out(const pn::Transform& t);
-pn::CameraDesc in(const Camera& c);
-Camera out(const pn::CameraDesc& d);
-RenderStats out(const pn::RenderStats& s);
 /// Default settings with a scene file's "render" block applied.
 RenderSettings settingsFrom(const pn::SettingsPatch& patch);
 /// The scene's camera, else one framing `bounds`.

@@ -1,8 +1,7 @@
 // Conversions between the public API's values and the internal forms that
 // differ from them (the rest are one type: api/include/penumbra/types.hpp).
-// Vectors, colours and cameras keep internal twins with arithmetic of their
-// own; their layouts are pinned here, so a field added on one side only fails
-// to compile instead of being dropped by a conversion.
+// Vectors and colours keep internal twins with arithmetic of their own; their
+// layouts are pinned here.
 #include "api/api_internal.h"
 
 #include <cstddef>
@@ -17,13 +16,6 @@
 static_assert(sizeof(pnb::Vec3) == sizeof(penumbra::Vec3f) && sizeof(pnb::Color) == sizeof(penumbra::Rgb));
 PNB_TWIN_FIELD(pnb::Vec3, z, penumbra::Vec3f, z);
 PNB_TWIN_FIELD(pnb::Color, b, penumbra::Rgb, b);
-static_assert(sizeof(pnb::Camera) == sizeof(penumbra::CameraDesc), "Camera and CameraDesc differ: update in()/out()");
-PNB_TWIN_FIELD(pnb::Camera, eye, penumbra::CameraDesc, eye);
-PNB_TWIN_FIELD(pnb::Camera, lookAt, penumbra::CameraDesc, lookAt);
-PNB_TWIN_FIELD(pnb::Camera, up, penumbra::CameraDesc, up);
-PNB_TWIN_FIELD(pnb::Camera, vfovDegrees, penumbra::CameraDesc, vfovDegrees);
-PNB_TWIN_FIELD(pnb::Camera, aperture, penumbra::CameraDesc, aperture);
-PNB_TWIN_FIELD(pnb::Camera, focusDistance, penumbra::CameraDesc, focusDistance);
 #undef PNB_TWIN_FIELD
 
 namespace pnb {
@@ -41,27 +33,6 @@ Matrix3x4 out(const pn::Transform& t) {
     return m;
 }
 
-pn::CameraDesc in(const Camera& c) {
-    pn::CameraDesc d;
-    d.eye = in(c.eye);
-    d.lookAt = in(c.lookAt);
-    d.up = in(c.up);
-    d.vfovDegrees = c.vfovDegrees;
-    d.aperture = c.aperture;
-    d.focusDistance = c.focusDistance;
-    return d;
-}
-Camera out(const pn::CameraDesc& d) {
-    Camera c;
-    c.eye = out(d.eye);
-    c.lookAt = out(d.lookAt);
-    c.up = out(d.up);
-    c.vfovDegrees = d.vfovDegrees;
-    c.aperture = d.aperture;
-    c.focusDistance = d.focusDistance;
-    return c;
-}
-
 RenderSettings settingsFrom(const pn::SettingsPatch& patch) {
     RenderSettings r;  // aovs stay off: they are the host's choice, not the file's
     patch.applyTo(r);
@@ -70,22 +41,8 @@ RenderSettings settingsFrom(const pn::SettingsPatch& patch) {
 
 Camera defaultCameraFor(const std::optional<pn::CameraDesc>& cam, const pn::Bounds3f& bounds, float aspect,
                         float vfov) {
-    if (cam) return out(*cam);
-    return out(pn::frameBounds(bounds, vfov, aspect));
-}
-
-RenderStats out(const pn::RenderStats& s) {
-    RenderStats r;
-    r.cameraRays = s.rays.camera;
-    r.shadowRays = s.rays.shadow;
-    r.reflectionRays = s.rays.reflection;
-    r.invalidRays = s.invalidRays;
-    r.nonFiniteSamples = s.rays.nonFinite;
-    r.renderSeconds = s.renderSeconds;
-    r.mraysPerSecond = s.mraysPerSecond;
-    r.samplesPerPixel = s.samplesPerPixel;
-    r.threads = s.threads;
-    return r;
+    if (cam) return *cam;
+    return pn::frameBounds(bounds, vfov, aspect);
 }
 
 void accumulate(RenderStats& total, const RenderStats& pass) {

@@ -33,7 +33,7 @@ std::string PreparedScene::accelerator() const { return requirePrepared(*this).p
 std::optional<Camera> PreparedScene::camera() const {
     const Impl& p = requirePrepared(*this);
     if (!p.camera) return std::nullopt;
-    return out(*p.camera);
+    return *p.camera;
 }
 
 Camera PreparedScene::defaultCamera(float aspect, float vfovDegrees) const {
@@ -104,6 +104,7 @@ Scene Renderer::loadScene(const std::string& path, const LoadOptions& options) c
         s.scene = std::move(loaded.scene);
         s.camera = loaded.camera;
         s.settings = loaded.settings;
+        s.source = path;
         return scene;
     });
 }
@@ -118,8 +119,19 @@ PreparedScene Renderer::prepare(Scene&& scene, const PrepareOptions& options) co
         pn::PrepareOptions po;
         po.accelerator = options.accelerator;
         po.quality = options.quality;
-        auto impl =
-            std::make_shared<const PreparedImpl>(std::move(s.scene), po, impl_->log, s.camera, s.settings);
+        std::shared_ptr<const PreparedImpl> impl;
+        try {
+            impl = std::make_shared<const PreparedImpl>(std::move(s.scene), po, impl_->log, s.camera, s.settings);
+        } catch (const Error& e) {
+            // The accelerator's errors (Embree's device errors, out of memory
+            // in the BVH build) know nothing of files: name the scene's.
+            const bool fromBuild = e.code() == ErrorCode::Embree || e.code() == ErrorCode::OutOfMemory;
+            if (!fromBuild || s.source.empty()) throw;
+            throw Error(e.code(), s.source + ": " + e.what());
+        } catch (const std::bad_alloc&) {
+            if (s.source.empty()) throw;
+            throw Error(ErrorCode::OutOfMemory, s.source + ": out of memory while preparing the scene");
+        }
         s = SceneImpl{};  // the moved-from scene is empty, not half-moved
         PreparedScene p;
         Access::set(p, std::move(impl));

@@ -43,19 +43,19 @@ RenderStats runPass(const PreparedImpl& p, const pn::CameraDesc& camera, const R
             if (progress) progress(double(done) / double(total));
         };
     fb.incomplete = true;  // until the pass completes
-    const pn::RenderStats st = pn::renderPass(p.prepared, camera, s, fb.film, first, count, control);
-    if (st.cancelled)
+    const pn::PassResult pass = pn::renderPass(p.prepared, camera, s, fb.film, first, count, control);
+    if (pass.cancelled)
         fail(ErrorCode::Cancelled, "render cancelled after " + std::to_string(fb.film.sampleCount()) +
                                        " complete samples per pixel; the framebuffer holds a partial pass");
     fb.incomplete = false;
     fb.seed = s.seed;
-    fb.renderSeconds += st.renderSeconds;
-    return out(st);
+    fb.renderSeconds += pass.stats.renderSeconds;
+    return pass.stats;
 }
 
 void checkCameraAndSettings(const Camera& camera, const RenderSettings& s) {
     pn::validateSettings(s);
-    pn::validateCamera(in(camera));
+    pn::validateCamera(camera);
 }
 
 }  // namespace
@@ -159,7 +159,7 @@ RenderStats Renderer::renderPass(const PreparedScene& scene, const Camera& camer
         const PreparedImpl& p = requirePrepared(scene);
         const RenderSettings& s = settings;
         checkCameraAndSettings(camera, s);
-        return runPass(p, in(camera), s, Access::of(image), firstSample, sampleCount, control.progress,
+        return runPass(p, camera, s, Access::of(image), firstSample, sampleCount, control.progress,
                        control.cancel, control.tileProgress);
     });
 }
@@ -173,7 +173,7 @@ RenderJob Renderer::renderAsync(const PreparedScene& scene, const Camera& camera
         auto state = std::make_shared<JobState>();
         state->image = Framebuffer(settings);
 
-        auto work = [state, scene, cam = in(camera), s, opts = std::move(options)]() {
+        auto work = [state, scene, cam = camera, s, opts = std::move(options)]() {
             JobResult result;
             const uint32_t spp = uint32_t(s.spp);
             const uint32_t step = opts.passSamples > 0 ? std::min(opts.passSamples, spp) : spp;

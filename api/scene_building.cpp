@@ -74,19 +74,10 @@ MaterialId Scene::addMaterial(const Material& m) {
         requireColor(m.ke, what + ": ke");
         require(std::isfinite(m.exponent) && m.exponent >= 0.f, what + ": exponent must be finite and >= 0");
         require(s.materials.size() < std::numeric_limits<MaterialId>::max(), "too many materials");
-        pn::Material pm;
-        pm.name = m.name;
-        pm.ka = in(m.ka);
-        pm.kd = in(m.kd);
-        pm.ks = in(m.ks);
-        pm.exponent = m.exponent;
-        pm.kr = in(m.kr);
-        pm.ke = in(m.ke);
-        pm.twoSidedEmission = m.twoSidedEmission;
-        pm.model = m.model;
+        pn::Material pm{m};
         if (!m.diffuseTexture.empty()) {
             auto it = std::find(s.textures.begin(), s.textures.end(), m.diffuseTexture);
-            pm.diffuseTexture = int(it - s.textures.begin());
+            pm.textureIndex = int(it - s.textures.begin());
             if (it == s.textures.end()) s.textures.push_back(m.diffuseTexture);
         }
         s.materials.push_back(pm);
@@ -252,14 +243,14 @@ void Scene::setBackground(const Color& background) {
 
 void Scene::setCamera(const Camera& camera) {
     guarded([&] {
-        pn::validateCamera(in(camera));
-        impl_->camera = in(camera);
+        pn::validateCamera(camera);
+        impl_->camera = camera;
     });
 }
 
 std::optional<Camera> Scene::camera() const {
     if (!impl_->camera) return std::nullopt;
-    return out(*impl_->camera);
+    return *impl_->camera;
 }
 
 Camera Scene::defaultCamera(float aspect, float vfovDegrees) const {

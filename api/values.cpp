@@ -10,7 +10,7 @@ void validate(const RenderSettings& settings) {
 }
 
 void validate(const Camera& camera) {
-    guarded([&] { pn::validateCamera(in(camera)); });
+    guarded([&] { pn::validateCamera(camera); });
 }
 
 Matrix3x4 Matrix3x4::translate(const Vec3& t) { return out(pn::Transform::translate(in(t))); }

@@ -7,14 +7,8 @@
 
 namespace penumbra {
 
-struct CameraDesc {
-    Vec3f eye{0.f, 1.f, 3.f};
-    Vec3f lookAt{0.f, 1.f, 0.f};
-    Vec3f up{0.f, 1.f, 0.f};
-    float vfovDegrees = 45.f;
-    float aperture = 0.f;       // lens radius; 0 = pinhole
-    float focusDistance = 0.f;  // 0 = distance from eye to lookAt
-};
+/// What places the camera: the API's value type (api/include/penumbra/types.hpp).
+using CameraDesc = pnb::Camera;
 
 /// Throws Error(InvalidArgument) naming the problem: eye == lookAt, up parallel
 /// to the view direction, fov outside (0, 180), non-finite values, negative aperture.

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <penumbra/types.hpp>
+
 namespace penumbra {
 
 struct Rgb {
@@ -12,6 +14,10 @@ struct Rgb {
     constexpr Rgb() = default;
     constexpr Rgb(float r_, float g_, float b_) : r(r_), g(g_), b(b_) {}
     constexpr explicit Rgb(float s) : r(s), g(s), b(s) {}
+    // The API's plain colour (in pnb::Material, ...) converts both ways, so the
+    // values defined once in types.hpp are used inside with this arithmetic.
+    constexpr Rgb(const pnb::Color& c) : r(c.r), g(c.g), b(c.b) {}
+    constexpr operator pnb::Color() const { return {r, g, b}; }
 
     constexpr Rgb& operator+=(const Rgb& o) { r += o.r; g += o.g; b += o.b; return *this; }
     constexpr Rgb& operator*=(const Rgb& o) { r *= o.r; g *= o.g; b *= o.b; return *this; }

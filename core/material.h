@@ -11,20 +11,14 @@ namespace penumbra {
 
 using PhongModel = pnb::PhongModel;  // api/include/penumbra/types.hpp
 
-struct Material {
-    std::string name;
-    Rgb ka{0.f};        // ambient reflectance, multiplies the scene's ambient light
-    Rgb kd{0.8f};       // diffuse albedo
-    Rgb ks{0.f};        // specular (Phong lobe) reflectance
-    float exponent = 1.f;  // Phong exponent n
-    Rgb kr{0.f};        // mirror reflectance
-    Rgb ke{0.f};        // emitted radiance
-    bool twoSidedEmission = false;
-    PhongModel model = PhongModel::Normalized;
-    int diffuseTexture = -1;  // index into Scene::textures, multiplies kd
+/// The API's material (what a user or a scene file sets, the texture as a
+/// path: api/include/penumbra/types.hpp) and what the scene resolved its
+/// texture to.
+struct Material : pnb::Material {
+    int textureIndex = -1;  // index into Scene::textures (diffuseTexture's image), multiplies kd; -1 = none
 
-    bool isEmissive() const { return ke.maxComponent() > 0.f; }
-    bool isMirror() const { return kr.maxComponent() > 0.f; }
+    bool isEmissive() const { return Rgb(ke).maxComponent() > 0.f; }
+    bool isMirror() const { return Rgb(kr).maxComponent() > 0.f; }
 };
 
 }  // namespace penumbra

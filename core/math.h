@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <limits>
 
+#include <penumbra/types.hpp>
+
 namespace penumbra {
 
 inline constexpr float kPi = 3.14159265358979323846f;
@@ -25,6 +27,10 @@ struct Vec3f {
     constexpr Vec3f() = default;
     constexpr Vec3f(float x_, float y_, float z_) : x(x_), y(y_), z(z_) {}
     constexpr explicit Vec3f(float s) : x(s), y(s), z(s) {}
+    // The API's plain vector (in pnb::Camera, ...) converts both ways, so the
+    // values defined once in types.hpp are used inside with this arithmetic.
+    constexpr Vec3f(const pnb::Vec3& v) : x(v.x), y(v.y), z(v.z) {}
+    constexpr operator pnb::Vec3() const { return {x, y, z}; }
 
     constexpr float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
     constexpr float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }

@@ -118,7 +118,7 @@ SceneFixups Scene::finalize(const Logger& log) {
         for (auto& id : m.faceMaterials) fixId(id);
     }
     for (auto& m : materials)
-        if (m.diffuseTexture >= static_cast<int>(textures.size())) m.diffuseTexture = -1;
+        if (m.textureIndex >= static_cast<int>(textures.size())) m.textureIndex = -1;
 
     if (fix.droppedTriangles)
         log.warn("dropped " + std::to_string(fix.droppedTriangles) +

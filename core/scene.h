@@ -50,7 +50,7 @@ public:
     std::vector<TriangleMesh> meshes;
     std::vector<PointLight> pointLights;
     std::vector<DirectionalLight> directionalLights;
-    std::vector<std::string> textures;  // resolved image paths, indexed by Material::diffuseTexture
+    std::vector<std::string> textures;  // resolved image paths, indexed by Material::textureIndex
     /// The loaders' open texture files, same index as `textures` (read these, never reopen the path);
     /// missing or null entries (scenes built in code) are opened by path. /work/notes/texture-fd.md
     std::vector<std::shared_ptr<const InputFile>> textureFiles;

@@ -10,7 +10,7 @@ Integrator::Integrator(const Scene& scene, const Accelerator& accel, const Light
     : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings) {}
 
 Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLength, const Vec3f& wo) const {
-    if (m.diffuseTexture < 0 || !textures_) return m.kd;
+    if (m.textureIndex < 0 || !textures_) return m.kd;
     // Filter footprint in uv: the pixel's cone width at the hit (a ray cone:
     // distance travelled times the pixel's angle, stretched by the grazing
     // angle), converted to uv units with the triangle's uv-per-world scale.
@@ -29,7 +29,7 @@ Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLengt
             }
         }
     }
-    return m.kd * textures_->lookup(m.diffuseTexture, hit.uv, footprint);
+    return m.kd * textures_->lookup(m.textureIndex, hit.uv, footprint);
 }
 
 ShadingPoint Integrator::shadingPoint(const Hit& hit, const Ray& ray, float pathLength) const {

@@ -139,7 +139,7 @@ bool renderTile(const PassContext& c, const PixelRect& tile, RayCounts& counts) 
 
 }  // namespace
 
-RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& cameraDesc, const RenderSettings& settings,
+PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDesc, const RenderSettings& settings,
                        Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control) {
     checkPass(settings, film, firstSample, sampleCount);
     const Camera camera(cameraDesc, settings.width, settings.height);
@@ -177,19 +177,23 @@ RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& cameraDe
         if (control.progress) control.progress(tilesDone, tileCount);
     });
 
-    RenderStats stats;
+    PassResult result;
+    RenderStats& stats = result.stats;
     stats.renderSeconds = secondsSince(t0);
-    stats.rays = total;
+    stats.cameraRays = total.camera;
+    stats.shadowRays = total.shadow;
+    stats.reflectionRays = total.reflection;
+    stats.nonFiniteSamples = total.nonFinite;
     stats.invalidRays = prepared.accelerator().invalidRayCount() - invalidBefore;
     stats.threads = settings.threads > 0 ? settings.threads : hardwareThreads();
-    stats.cancelled = stopped.load();
+    result.cancelled = stopped.load();
     stats.mraysPerSecond = stats.renderSeconds > 0 ? double(total.total()) / stats.renderSeconds * 1e-6 : 0.0;
-    if (!stats.cancelled) film.setSampleCount(firstSample + sampleCount);
+    if (!result.cancelled) film.setSampleCount(firstSample + sampleCount);
     stats.samplesPerPixel = film.sampleCount();
-    return stats;
+    return result;
 }
 
-RenderStats render(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings, Film& film,
+PassResult render(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings, Film& film,
                    const RenderControl& control) {
     return renderPass(prepared, camera, settings, film, film.sampleCount(), uint32_t(settings.spp) - film.sampleCount(),
                       control);

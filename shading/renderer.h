@@ -55,13 +55,12 @@ private:
     double buildSeconds_ = 0.0;
 };
 
-struct RenderStats {
-    RayCounts rays;
-    uint64_t invalidRays = 0;   // rejected before reaching the accelerator
-    double renderSeconds = 0.0;
-    double mraysPerSecond = 0.0;
-    uint32_t samplesPerPixel = 0;  // accumulated in the film after this call
-    int threads = 0;
+using pnb::RenderStats;
+
+/// One render call's outcome: the public stats (samplesPerPixel = what the film
+/// holds after the call) and whether the host cancelled it.
+struct PassResult {
+    RenderStats stats;
     bool cancelled = false;
 };
 
@@ -80,13 +79,13 @@ struct RenderControl {
 /// what it holds. Rendering samples [0, spp) in one call or in several passes
 /// gives bit-identical films, for any thread count and tile size. The film
 /// must match settings (size, crop). A cancelled call leaves the film partly
-/// accumulated (stats.cancelled is set): discard it.
-RenderStats renderPass(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings,
+/// accumulated (PassResult::cancelled is set): discard it.
+PassResult renderPass(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings,
                        Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control = {});
 
 /// Convenience: a new film with all settings.spp samples.
 Film makeFilm(const RenderSettings& settings);
-RenderStats render(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings, Film& film,
+PassResult render(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings, Film& film,
                    const RenderControl& control = {});
 
 }  // namespace penumbra

@@ -19,7 +19,7 @@ struct ShadingPoint {
 
     /// Whether any light can reach the viewer from here (a black or pure
     /// mirror material needs no light samples).
-    bool reflectsLight() const { return !(kd.isBlack() && material->ks.isBlack()); }
+    bool reflectsLight() const { return !(kd.isBlack() && Rgb(material->ks).isBlack()); }
 };
 
 }  // namespace penumbra

@@ -264,9 +264,9 @@ FrameFigures measureFrame(const PreparedScene& prepared, const CameraDesc& camer
         st.threads = t;
         Film film = makeFilm(st);
         const auto t0 = Clock::now();
-        const RenderStats s = renderPass(prepared, camera, st, film, 0, uint32_t(st.spp));
+        const RenderStats s = renderPass(prepared, camera, st, film, 0, uint32_t(st.spp)).stats;
         const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
-        f.rays = s.rays;
+        f.rays = RayCounts{s.cameraRays, s.shadowRays, s.reflectionRays, s.nonFiniteSamples};
         return dt;
     };
     if (reps > 1) {

@@ -132,7 +132,7 @@ int run(int argc, char** argv) {
     camera.lookAt = Vec3f{0.f, 0.f, 0.f};
     camera.vfovDegrees = 40.f;
     Film film = makeFilm(settings);
-    RenderStats stats = render(prepared, camera, settings, film);
+    RenderStats stats = render(prepared, camera, settings, film).stats;
     const uint64_t rssRendered = peakRssBytes();
     if (!output.empty()) writeImage(output, film, {});
 

@@ -65,7 +65,10 @@ Material SceneReader::readMaterial(const Json& j, const std::string& ptr, const 
         else
             fail(ErrorCode::InvalidScene, mp, "must be \"normalized\" or \"classic\", got " + quotedValue(s));
     }
-    if (const Json* v = find(j, "texture")) m.diffuseTexture = texture(*v, child(ptr, "texture"), scene);
+    if (const Json* v = find(j, "texture")) {
+        m.textureIndex = texture(*v, child(ptr, "texture"), scene);
+        if (m.textureIndex >= 0) m.diffuseTexture = scene.textures[size_t(m.textureIndex)];
+    }
     return m;
 }
 

@@ -58,7 +58,7 @@ Material MaterialConverter::convert(const MtlMaterial& t) {
     clamped = clamped || m.exponent != ns;
     if (clamped) log_.warn(where + ": negative or non-finite values replaced by 0 (Ns by 1)");
 
-    if (m.ka.maxComponent() > 1.5f)
+    if (Rgb(m.ka).maxComponent() > 1.5f)
         log_.warn(where + ": Ka " + rgbText(t.ambient) +
                   " looks like a light source; Penumbra takes emission from Ke only (add 'Ke " +
                   rgbText(t.ambient) + "' to make it emit)");
@@ -80,7 +80,10 @@ Material MaterialConverter::convert(const MtlMaterial& t) {
             log_.warn(name(mtl) + ": ignoring unknown MTL key '" + printable(key) + "'");
     }
 
-    if (!t.diffuseTexture.empty()) m.diffuseTexture = texture(t.diffuseTexture, mtl, where);
+    if (!t.diffuseTexture.empty()) {
+        m.textureIndex = texture(t.diffuseTexture, mtl, where);
+        if (m.textureIndex >= 0) m.diffuseTexture = scene_.textures[size_t(m.textureIndex)];
+    }
     return m;
 }
 

@@ -660,6 +660,16 @@ TEST_F(BadInput, OutOfMemoryIsACleanError) {
 #endif
 }
 
+TEST_F(BadInput, AcceleratorErrorsNameTheSceneFile) {
+    // Embree reports out of memory for this device configuration (read from
+    // PENUMBRA_EMBREE_CONFIG when the BVH is built): the error names the scene.
+    write("lamp.mtl", "newmtl lamp\nKd 0 0 0\nKe 1 1 1\n");
+    write("scene.obj", "mtllib lamp.mtl\nusemtl lamp\n" + std::string(kQuad) + "f 1 2 3 4\n");
+    expectCleanFailure(run(in("scene.obj") + " -q --width 8 --height 8 --spp 1" + out(),
+                           "PENUMBRA_EMBREE_CONFIG=tessellation_cache_size=-1 "),
+                       {(dir_ / "scene.obj").string() + ": Embree error during rtcNewDevice: out of memory"});
+}
+
 // ------------------------------------------------------------------ outputs over inputs (issue 13, item 5)
 
 std::string slurpFile(const fs::path& p) {

@@ -431,7 +431,7 @@ TEST(ObjLoader, CrlfBomTabsAndBackslashTexturePaths) {
     expectRgb(wood->kd, 0.5f, 0.25f, 0.125f);
     EXPECT_EQ(l.scene.meshes[0].material, static_cast<uint32_t>(wood - l.scene.materials.data()));
     ASSERT_EQ(l.scene.textures.size(), 1u);
-    EXPECT_EQ(wood->diffuseTexture, 0);
+    EXPECT_EQ(wood->textureIndex, 0);
     EXPECT_TRUE(fs::equivalent(l.scene.textures[0], dir / "tex" / "wood.png"));
 }
 
@@ -466,7 +466,7 @@ TEST(ObjMaterials, PhongValuesAreMapped) {
     expectRgb(p.kr, 0, 0, 0);
     expectRgb(p.ke, 0, 0, 0);
     EXPECT_EQ(p.model, PhongModel::Normalized);
-    EXPECT_EQ(p.diffuseTexture, -1);
+    EXPECT_EQ(p.textureIndex, -1);
     const Material& lamp = scene.materials[3];
     expectRgb(lamp.ke, 4, 3, 2);
     EXPECT_TRUE(lamp.isEmissive());
@@ -597,10 +597,10 @@ TEST(ObjMaterials, TexturesResolveAndAreShared) {
     Loaded l = load(obj, log);
     ASSERT_EQ(l.scene.textures.size(), 1u);
     EXPECT_TRUE(fs::equivalent(l.scene.textures[0], dir / "maps" / "Brick.png"));
-    EXPECT_EQ(findMaterial(l.scene, "a")->diffuseTexture, 0);
-    EXPECT_EQ(findMaterial(l.scene, "b")->diffuseTexture, 0);
+    EXPECT_EQ(findMaterial(l.scene, "a")->textureIndex, 0);
+    EXPECT_EQ(findMaterial(l.scene, "b")->textureIndex, 0);
     const Material* c = findMaterial(l.scene, "c");
-    EXPECT_EQ(c->diffuseTexture, -1);
+    EXPECT_EQ(c->textureIndex, -1);
     expectRgb(c->kd, 0.3f, 0.2f, 0.1f);
     EXPECT_EQ(log.warnings({"tex.mtl", "absent.png", "not found"}), 1u) << log.all();
     EXPECT_EQ(log.warnings(), 1u) << log.all();
@@ -756,7 +756,7 @@ TEST(FrameBounds, SeesTheWholeBoxFromPlusZ) {
         validateCamera(c);
     }
     CameraDesc def = frameBounds(Bounds3f{}, 30.f, 1.f);
-    EXPECT_EQ(def.eye, CameraDesc{}.eye);
+    EXPECT_EQ(Vec3f(def.eye), CameraDesc{}.eye);
     EXPECT_FLOAT_EQ(def.vfovDegrees, 30.f);
 }
 
@@ -969,7 +969,7 @@ TEST(SharedScenes, SponzaTexturesResolveCaseInsensitively) {
     for (const auto& t : scene.textures) EXPECT_TRUE(fs::is_regular_file(t)) << t;
     EXPECT_EQ(log.warnings({"not found"}), 0u) << log.all();
     size_t textured = 0;
-    for (const auto& m : scene.materials) textured += m.diffuseTexture >= 0 ? 1 : 0;
+    for (const auto& m : scene.materials) textured += m.textureIndex >= 0 ? 1 : 0;
     EXPECT_GE(textured, 12u);
     EXPECT_EQ(st.emissiveTriangles, 0u);
 }

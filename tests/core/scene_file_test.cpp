@@ -202,11 +202,11 @@ TEST(SceneFile, MaterialsAsArrayOfNamed) {
 TEST(SceneFile, MaterialDefaults) {
     Material m = loadText(R"({"materials": {"m": {}}})").scene.materials[0];
     Material d;
-    EXPECT_EQ(m.kd, d.kd);
-    EXPECT_EQ(m.ks, d.ks);
+    EXPECT_EQ(Rgb(m.kd), d.kd);
+    EXPECT_EQ(Rgb(m.ks), d.ks);
     EXPECT_EQ(m.exponent, d.exponent);
     EXPECT_EQ(m.model, PhongModel::Normalized);
-    EXPECT_EQ(m.diffuseTexture, -1);
+    EXPECT_EQ(m.textureIndex, -1);
 }
 
 TEST(SceneFile, MaterialKa) {
@@ -265,15 +265,15 @@ TEST(SceneFile, MaterialTextureResolvesRelativeToSceneAndIsShared) {
     LoadedScene s = loadJsonScene(scene, {}, Logger());
     ASSERT_EQ(s.scene.textures.size(), 1u);
     EXPECT_TRUE(fs::equivalent(s.scene.textures[0], dir / "tex" / "checker.png"));
-    EXPECT_EQ(s.scene.materials[0].diffuseTexture, 0);
-    EXPECT_EQ(s.scene.materials[1].diffuseTexture, -1);
-    EXPECT_EQ(s.scene.materials[2].diffuseTexture, 0);
+    EXPECT_EQ(s.scene.materials[0].textureIndex, 0);
+    EXPECT_EQ(s.scene.materials[1].textureIndex, -1);
+    EXPECT_EQ(s.scene.materials[2].textureIndex, 0);
 }
 
 TEST(SceneFile, MissingTextureWarnsOrFailsInStrictMode) {
     CapturedLog log;
     LoadedScene s = loadText(R"({"materials": {"a": {"texture": "nope.png"}}})", {}, log.logger);
-    EXPECT_EQ(s.scene.materials[0].diffuseTexture, -1);
+    EXPECT_EQ(s.scene.materials[0].textureIndex, -1);
     EXPECT_TRUE(s.scene.textures.empty());
     ASSERT_EQ(log.warnings.size(), 1u);
     EXPECT_NE(log.warnings[0].find("/materials/a/texture"), std::string::npos) << log.warnings[0];
@@ -301,7 +301,7 @@ TEST(SceneFile, ShapeWithoutMaterialGetsDefault) {
     LoadedScene s = loadText(std::string("{") + kOneSphere + "}");
     ASSERT_EQ(s.scene.materials.size(), 1u);
     EXPECT_EQ(s.scene.materials[0].name, "default");
-    EXPECT_EQ(s.scene.materials[0].kd, Material().kd);
+    EXPECT_EQ(Rgb(s.scene.materials[0].kd), Material().kd);
     EXPECT_EQ(s.scene.spheres[0].material, 0u);
 }
 
@@ -326,7 +326,7 @@ TEST(SceneFile, ShapeEmissionMakesPrivateCopy) {
     const Material& copy = s.scene.materials[s.scene.spheres[0].material];
     EXPECT_NE(s.scene.spheres[0].material, 0u);
     EXPECT_EQ(s.scene.spheres[1].material, 0u);
-    EXPECT_TRUE(base.ke.isBlack());
+    EXPECT_TRUE(Rgb(base.ke).isBlack());
     EXPECT_EQ(copy.ke, Rgb(1, 2, 3));
     EXPECT_EQ(copy.kd, Rgb(0.3f));
     EXPECT_EQ(copy.ks, Rgb(0.1f));
@@ -560,9 +560,9 @@ TEST(SceneFile, RectangleLightBecomesEmissiveShape) {
     const Material& m = s.scene.materials[s.scene.rectangles[0].material];
     EXPECT_EQ(m.name, "panel");
     EXPECT_EQ(m.ke, Rgb(40.f));
-    EXPECT_TRUE(m.kd.isBlack());
-    EXPECT_TRUE(m.ks.isBlack());
-    EXPECT_TRUE(m.kr.isBlack());
+    EXPECT_TRUE(Rgb(m.kd).isBlack());
+    EXPECT_TRUE(Rgb(m.ks).isBlack());
+    EXPECT_TRUE(Rgb(m.kr).isBlack());
     EXPECT_FALSE(m.twoSidedEmission);
     expectVec(rectangleNormal(s.scene.rectangles[0]), {0, -1, 0});
 }

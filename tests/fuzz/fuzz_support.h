@@ -93,9 +93,10 @@ inline void checkScene(const Scene& scene) {
             if (m.materialOf(t) >= scene.materials.size()) violated("material id out of range");
     }
     for (const Material& mat : scene.materials) {
-        if (!mat.kd.isFinite() || !mat.ke.isFinite() || !mat.ks.isFinite() || !mat.kr.isFinite() || !mat.ka.isFinite())
+        if (!Rgb(mat.kd).isFinite() || !Rgb(mat.ke).isFinite() || !Rgb(mat.ks).isFinite() ||
+            !Rgb(mat.kr).isFinite() || !Rgb(mat.ka).isFinite())
             violated("non-finite material colour");
-        if (mat.diffuseTexture >= 0 && static_cast<size_t>(mat.diffuseTexture) >= scene.textures.size())
+        if (mat.textureIndex >= 0 && static_cast<size_t>(mat.textureIndex) >= scene.textures.size())
             violated("texture index out of range");
     }
 }

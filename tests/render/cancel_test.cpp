@@ -61,7 +61,7 @@ TEST(Cancel, OneHugeTileStopsPromptly) {
     });
     RenderControl control;
     control.cancel = &cancel;
-    const RenderStats stats = render(ps, cam, st, film, control);
+    const PassResult stats = render(ps, cam, st, film, control);
     const auto returnedAt = Clock::now();
     canceller.join();
     EXPECT_TRUE(stats.cancelled);
@@ -85,7 +85,7 @@ TEST(Cancel, AlreadyCancelledRendersNothing) {
     std::atomic<bool> cancel{true};
     RenderControl control;
     control.cancel = &cancel;
-    const RenderStats stats = render(ps, cam, st, film, control);
+    const PassResult stats = render(ps, cam, st, film, control);
     EXPECT_TRUE(stats.cancelled);
-    EXPECT_EQ(stats.rays.camera, 0u);
+    EXPECT_EQ(stats.stats.cameraRays, 0u);
 }

@@ -143,7 +143,7 @@ TEST_F(Determinism, CancelStopsTheRenderAndSaysSo) {
     RenderControl control;
     control.cancel = &cancel;
     Film f = makeFilm(st);
-    RenderStats stats = render(*prepared_, testCamera(), st, f, control);
+    PassResult stats = render(*prepared_, testCamera(), st, f, control);
     EXPECT_TRUE(stats.cancelled);
     EXPECT_EQ(f.sampleCount(), 0u);
 }
@@ -151,10 +151,10 @@ TEST_F(Determinism, CancelStopsTheRenderAndSaysSo) {
 TEST_F(Determinism, StatisticsCountRaysByKind) {
     RenderSettings st = testSettings();
     Film f = makeFilm(st);
-    RenderStats stats = render(*prepared_, testCamera(), st, f);
-    EXPECT_EQ(stats.rays.camera, uint64_t(48 * 36 * 9));
-    EXPECT_GT(stats.rays.shadow, stats.rays.camera);   // several lights and samples per hit
-    EXPECT_GT(stats.rays.reflection, 0u);              // the mirror sphere
-    EXPECT_EQ(stats.rays.nonFinite, 0u);
+    RenderStats stats = render(*prepared_, testCamera(), st, f).stats;
+    EXPECT_EQ(stats.cameraRays, uint64_t(48 * 36 * 9));
+    EXPECT_GT(stats.shadowRays, stats.cameraRays);   // several lights and samples per hit
+    EXPECT_GT(stats.reflectionRays, 0u);             // the mirror sphere
+    EXPECT_EQ(stats.nonFiniteSamples, 0u);
     EXPECT_EQ(stats.invalidRays, 0u);
 }

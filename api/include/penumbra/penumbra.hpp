@@ -51,18 +51,6 @@ using LogCallback = std::function<void(LogLevel level, std::string_view message)
 
 // ---------------------------------------------------------------- values
 
-struct Vec3 {
-    float x = 0.f, y = 0.f, z = 0.f;
-};
-
-/// Linear RGB (reflectance, radiance, intensity or irradiance by context).
-struct Color {
-    float r = 0.f, g = 0.f, b = 0.f;
-};
-
-/// The same value in all three channels.
-constexpr Color gray(float v) { return Color{v, v, v}; }
-
 /// Affine map as a row-major 3x4 matrix: p' = M * (p, 1). Default: identity.
 struct Matrix3x4 {
     float m[3][4] = {{1.f, 0.f, 0.f, 0.f}, {0.f, 1.f, 0.f, 0.f}, {0.f, 0.f, 1.f, 0.f}};
@@ -73,20 +61,6 @@ struct Matrix3x4 {
     PENUMBRA_API static Matrix3x4 rotate(float degrees, const Vec3& axis);
     /// this * other: `other` applies first.
     PENUMBRA_API Matrix3x4 operator*(const Matrix3x4& other) const;
-};
-
-/// Phong material (docs/rendering.md). Coefficients are linear RGB in [0, inf).
-struct Material {
-    std::string name;
-    Color ka{0.f, 0.f, 0.f};    ///< ambient reflectance (times the scene's ambient light)
-    Color kd{0.8f, 0.8f, 0.8f}; ///< diffuse albedo
-    Color ks{0.f, 0.f, 0.f};    ///< specular (Phong lobe) reflectance
-    float exponent = 1.f;       ///< Phong exponent n
-    Color kr{0.f, 0.f, 0.f};    ///< mirror reflectance
-    Color ke{0.f, 0.f, 0.f};    ///< emitted radiance: makes the surface an area light
-    bool twoSidedEmission = false;
-    PhongModel model = PhongModel::Normalized;
-    std::string diffuseTexture;  ///< image multiplying kd through the mesh UVs; empty = none
 };
 
 /// Index of a material in its scene, as returned by Scene::addMaterial.
@@ -103,16 +77,6 @@ struct MeshDesc {
     const float* uvs = nullptr;                  ///< optional: 2 per vertex
     const std::uint32_t* faceMaterials = nullptr;  ///< optional: one per triangle
     MaterialId material = 0;                     ///< used when faceMaterials is null
-};
-
-/// Pinhole or thin-lens camera; `up` maps to the top of the image.
-struct Camera {
-    Vec3 eye{0.f, 1.f, 3.f};
-    Vec3 lookAt{0.f, 1.f, 0.f};
-    Vec3 up{0.f, 1.f, 0.f};
-    float vfovDegrees = 45.f;
-    float aperture = 0.f;       ///< lens radius; 0 = pinhole
-    float focusDistance = 0.f;  ///< 0 = distance from eye to lookAt
 };
 
 /// Throws Error(InvalidArgument) naming the offending setting.
@@ -341,17 +305,6 @@ private:
 PENUMBRA_API void checkImagePath(const std::string& path);
 
 // ---------------------------------------------------------------- rendering
-
-/// Counts and timings of one render call (or of all passes of a job).
-struct RenderStats {
-    std::uint64_t cameraRays = 0, shadowRays = 0, reflectionRays = 0;
-    std::uint64_t invalidRays = 0;       ///< rejected before reaching the accelerator
-    std::uint64_t nonFiniteSamples = 0;  ///< NaN/Inf radiance samples dropped
-    double renderSeconds = 0.0;
-    double mraysPerSecond = 0.0;
-    std::uint32_t samplesPerPixel = 0;   ///< in the framebuffer after the call
-    int threads = 0;
-};
 
 /// Host hooks for one synchronous render call.
 struct RenderControl {

@@ -62,6 +62,30 @@ private:
 
 enum class LogLevel { Debug = 0, Info = 1, Warning = 2, Error = 3 };
 
+// ---------------------------------------------------------------- values
+
+struct Vec3 {
+    float x = 0.f, y = 0.f, z = 0.f;
+};
+
+/// Linear RGB (reflectance, radiance, intensity or irradiance by context).
+struct Color {
+    float r = 0.f, g = 0.f, b = 0.f;
+};
+
+/// The same value in all three channels.
+constexpr Color gray(float v) { return Color{v, v, v}; }
+
+/// Pinhole or thin-lens camera; `up` maps to the top of the image.
+struct Camera {
+    Vec3 eye{0.f, 1.f, 3.f};
+    Vec3 lookAt{0.f, 1.f, 0.f};
+    Vec3 up{0.f, 1.f, 0.f};
+    float vfovDegrees = 45.f;
+    float aperture = 0.f;       ///< lens radius; 0 = pinhole
+    float focusDistance = 0.f;  ///< 0 = distance from eye to lookAt
+};
+
 // ---------------------------------------------------------------- materials
 
 enum class PhongModel {
@@ -69,6 +93,20 @@ enum class PhongModel {
     Normalized,
     /// The lecture's empirical L = ka La + sum kd Lj (n.l) + ks Lj (v.r)^n.
     Classic,
+};
+
+/// Phong material (docs/rendering.md). Coefficients are linear RGB in [0, inf).
+struct Material {
+    std::string name;
+    Color ka{0.f, 0.f, 0.f};    ///< ambient reflectance (times the scene's ambient light)
+    Color kd{0.8f, 0.8f, 0.8f}; ///< diffuse albedo
+    Color ks{0.f, 0.f, 0.f};    ///< specular (Phong lobe) reflectance
+    float exponent = 1.f;       ///< Phong exponent n
+    Color kr{0.f, 0.f, 0.f};    ///< mirror reflectance
+    Color ke{0.f, 0.f, 0.f};    ///< emitted radiance: makes the surface an area light
+    bool twoSidedEmission = false;
+    PhongModel model = PhongModel::Normalized;
+    std::string diffuseTexture;  ///< image multiplying kd through the mesh UVs; empty = none
 };
 
 // ---------------------------------------------------------------- render settings
@@ -105,6 +143,19 @@ struct RenderSettings {
     /// Also accumulate albedo, normal and depth of the first hit. Off unless
     /// asked for (the CLI's --aovs, docs/embedding.md): it costs memory.
     bool aovs = false;
+};
+
+// ---------------------------------------------------------------- rendering
+
+/// Counts and timings of one render call (or of all passes of a job).
+struct RenderStats {
+    std::uint64_t cameraRays = 0, shadowRays = 0, reflectionRays = 0;
+    std::uint64_t invalidRays = 0;       ///< rejected before reaching the accelerator
+    std::uint64_t nonFiniteSamples = 0;  ///< NaN/Inf radiance samples dropped
+    double renderSeconds = 0.0;
+    double mraysPerSecond = 0.0;
+    std::uint32_t samplesPerPixel = 0;   ///< in the framebuffer after the call
+    int threads = 0;
 };
 
 // ---------------------------------------------------------------- preparing

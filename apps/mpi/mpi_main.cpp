@@ -81,23 +81,13 @@ Setup setUp(const Options& o, pnb::Renderer& renderer, int rank, int size) {
     const bool renders = rank != 0 || size == 1;
     try {
         if (rank == 0) cli::precheckOutputs(o);
-        pnb::LoadOptions loadOptions;
-        loadOptions.strict = o.strict;
-        loadOptions.restrictPaths = false;
-        std::set<fs::path> read, outside;
-        loadOptions.onRead = [&](const std::string& file, bool isOutside) {
-            read.insert(file);
-            if (isOutside) outside.insert(file);
-        };
-        pnb::Scene scene = renderer.loadScene(o.scene.string(), loadOptions);
+        cli::SceneReads reads;
+        pnb::Scene scene = renderer.loadScene(o.scene.string(), cli::loadOptionsFor(o, reads));
         setup.report.primitives = std::int64_t(scene.primitiveCount());
         setup.report.triangles = std::int64_t(scene.triangleCount());
         setup.report.materials = std::int64_t(scene.materialCount());
         if (rank == 0) {
-            cli::refuseOverwritingInputs(o, read);
-            if (!outside.empty())
-                std::fprintf(stderr, "penumbra-mpi: warning: %s: reads %zu file(s) outside the scene's folder, first %s\n",
-                             o.scene.string().c_str(), outside.size(), outside.begin()->string().c_str());
+            cli::checkSceneReads(o, reads, "penumbra-mpi");
             Job job;
             job.settings = cli::settingsFrom(o, scene.settings());
             pnb::validate(job.settings);

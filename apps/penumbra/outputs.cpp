@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <penumbra/penumbra.hpp>
 
@@ -66,9 +67,25 @@ void precheckOutputs(const Options& o) {
     }
 }
 
-void refuseOverwritingInputs(const Options& o, const std::set<fs::path>& read) {
+pnb::LoadOptions loadOptionsFor(const Options& o, SceneReads& reads) {
+    pnb::LoadOptions options;
+    options.strict = o.strict;
+    // The commands read whatever the scene names, but say so when that is
+    // outside the scene's folder, and never write over what they read.
+    options.restrictPaths = false;
+    options.onRead = [&reads](const std::string& file, bool isOutside) {
+        reads.all.insert(file);
+        if (isOutside) reads.outside.insert(file);
+    };
+    return options;
+}
+
+void checkSceneReads(const Options& o, const SceneReads& reads, const char* program) {
     for (const OutputFile& output : outputsOf(o))
-        for (const fs::path& input : read) refuseOverwrite(output, input, "a file the scene reads");
+        for (const fs::path& input : reads.all) refuseOverwrite(output, input, "a file the scene reads");
+    if (!reads.outside.empty())
+        std::fprintf(stderr, "%s: warning: %s: reads %zu file(s) outside the scene's folder, first %s\n", program,
+                     o.scene.string().c_str(), reads.outside.size(), reads.outside.begin()->string().c_str());
 }
 
 void writeStatistics(const fs::path& path, const std::string& text) {

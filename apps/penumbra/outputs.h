@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <penumbra/penumbra.hpp>
+
 #include "cli_options.h"
 #include "clobber_check.h"
 
@@ -25,8 +27,18 @@ std::vector<OutputFile> outputsOf(const Options& o);
 /// Throws pnb::Error.
 void precheckOutputs(const Options& o);
 
-/// After loading: no output is a file the scene reads (MTL, textures, meshes).
-void refuseOverwritingInputs(const Options& o, const std::set<std::filesystem::path>& read);
+/// The files loading a scene read, as the loader reported them.
+struct SceneReads {
+    std::set<std::filesystem::path> all, outside;  // outside: beyond the scene's folder
+};
+
+/// The commands' LoadOptions: --strict, and every file the scene names is
+/// read (no restriction), each one recorded in `reads` (which must outlive the load).
+pnb::LoadOptions loadOptionsFor(const Options& o, SceneReads& reads);
+
+/// After loading: refuses an output that is a file the scene reads (MTL,
+/// textures, meshes), and warns once, as `program`, about reads outside the scene's folder.
+void checkSceneReads(const Options& o, const SceneReads& reads, const char* program);
 
 /// Writes `text` to `path` in full or throws pnb::Error(IoError) naming it
 /// ("PATH: cannot write statistics: ..."). A regular file (or a new one) is

@@ -114,22 +114,11 @@ int runSteps(const Options& o, std::string& step) {
     precheck(o);
 
     pnb::Renderer renderer;  // warnings and errors to stderr
-    pnb::LoadOptions loadOptions;
-    loadOptions.strict = o.strict;
-    // The CLI reads whatever the scene names, but says so when that is outside
-    // the scene's folder, and never writes over what it read.
-    loadOptions.restrictPaths = false;
-    std::set<fs::path> read, outside;
-    loadOptions.onRead = [&](const std::string& file, bool isOutside) {
-        read.insert(file);
-        if (isOutside) outside.insert(file);
-    };
+    SceneReads reads;
+    const pnb::LoadOptions loadOptions = loadOptionsFor(o, reads);
     step = o.scene.string() + ": out of memory while loading the scene";
     pnb::Scene scene = renderer.loadScene(o.scene.string(), loadOptions);
-    refuseOverwritingInputs(o, read);
-    if (!outside.empty())
-        std::fprintf(stderr, "penumbra: warning: %s: reads %zu file(s) outside the scene's folder, first %s\n",
-                     o.scene.string().c_str(), outside.size(), outside.begin()->string().c_str());
+    checkSceneReads(o, reads, "penumbra");
 
     const pnb::RenderSettings settings = settingsFrom(o, scene.settings());
     pnb::validate(settings);

@@ -133,16 +133,7 @@ std::string firstProblem(const std::vector<SetupReport>& reports, const Options&
 
 void writeStatsJson(const Options& o, const pnb::RenderSettings& s, const SetupReport& scene, int ranks,
                     const FrameResult& f, double totalSeconds) {
-    nlohmann::json j;
-    j["scene"] = o.scene.string();
-    j["output"] = o.output.string();
-    j["accelerator"] = scene.accelerator;
-    j["width"] = s.width;
-    j["height"] = s.height;
-    j["spp"] = s.spp;
-    j["light_samples"] = s.lightSamples;
-    j["max_depth"] = s.maxDepth;
-    j["seed"] = s.seed;
+    nlohmann::json j = cli::statisticsHeader(o, s, scene.accelerator);
     j["ranks"] = ranks;
     j["tiles"] = f.tileCount;
     j["tiles_per_rank"] = f.tilesPerRank;

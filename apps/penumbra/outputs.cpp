@@ -88,6 +88,20 @@ void checkSceneReads(const Options& o, const SceneReads& reads, const char* prog
                      o.scene.string().c_str(), reads.outside.size(), reads.outside.begin()->string().c_str());
 }
 
+nlohmann::json statisticsHeader(const Options& o, const pnb::RenderSettings& s, const std::string& accelerator) {
+    nlohmann::json j;
+    j["scene"] = o.scene.string();
+    j["output"] = o.output.string();
+    j["accelerator"] = accelerator;
+    j["width"] = s.width;
+    j["height"] = s.height;
+    j["spp"] = s.spp;
+    j["light_samples"] = s.lightSamples;
+    j["max_depth"] = s.maxDepth;
+    j["seed"] = s.seed;
+    return j;
+}
+
 void writeStatistics(const fs::path& path, const std::string& text) {
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <penumbra/penumbra.hpp>
 
 #include "cli_options.h"
@@ -39,6 +40,10 @@ pnb::LoadOptions loadOptionsFor(const Options& o, SceneReads& reads);
 /// After loading: refuses an output that is a file the scene reads (MTL,
 /// textures, meshes), and warns once, as `program`, about reads outside the scene's folder.
 void checkSceneReads(const Options& o, const SceneReads& reads, const char* program);
+
+/// The --stats-json keys both commands write first: scene, output,
+/// accelerator and the settings that shape the image.
+nlohmann::json statisticsHeader(const Options& o, const pnb::RenderSettings& s, const std::string& accelerator);
 
 /// Writes `text` to `path` in full or throws pnb::Error(IoError) naming it
 /// ("PATH: cannot write statistics: ..."). A regular file (or a new one) is

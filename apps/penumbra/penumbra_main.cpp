@@ -70,16 +70,7 @@ void precheck(const Options& o) {
 // Written in full or reported: a short write (a full disk, /dev/full) is an error.
 void writeStatsJson(const fs::path& path, const Options& o, const pnb::RenderSettings& s,
                     const pnb::PreparedScene& prepared, const pnb::RenderStats& st, double totalSeconds) {
-    nlohmann::json j;
-    j["scene"] = o.scene.string();
-    j["output"] = o.output.string();
-    j["accelerator"] = prepared.accelerator();
-    j["width"] = s.width;
-    j["height"] = s.height;
-    j["spp"] = s.spp;
-    j["light_samples"] = s.lightSamples;
-    j["max_depth"] = s.maxDepth;
-    j["seed"] = s.seed;
+    nlohmann::json j = statisticsHeader(o, s, prepared.accelerator());
     j["threads"] = st.threads;
     j["triangles"] = prepared.triangleCount();
     j["primitives"] = prepared.primitiveCount();

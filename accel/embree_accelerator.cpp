@@ -6,6 +6,19 @@
 //   geomID 2      rectangles as native quads, primID = index in Scene::rectangles
 //   geomID 3      disks (user geometry), primID = index in Scene::disks
 //   geomID 4 + i  scene.meshes[i] as a native triangle mesh, primID = triangle
+//   geomID 4 + M + j  scene.instances[j] (M = scene.meshes.size()) as an Embree
+//                 instance of its prototype's scene; a hit has instID[0] = this
+//                 geomID, geomID = the mesh within the prototype, primID = triangle
+//
+// Instancing: each prototype that has instances gets its own RTCScene (its
+// meshes attached by their index, the vertex buffers shared as for ordinary
+// meshes) built once, whatever the number of instances; each instance is an
+// RTC_GEOMETRY_TYPE_INSTANCE geometry holding only its 3x4 transform. Embree
+// takes the ray into object space with the inverse transform and reports t
+// along the unnormalised object-space ray, which is t along the world ray; the
+// naive loop does the same (accel/naive_accelerator.cpp). Embree is built with
+// one instance level (RTC_MAX_INSTANCE_LEVEL_COUNT 1), so prototypes hold
+// meshes, never instances (the JSON loader flattens nested groups).
 //
 // Boxes and rectangles are planar polygons, so Embree's own quads answer
 // them exactly as the analytic tests do (up to rounding; the agreement tests
@@ -173,8 +186,10 @@ public:
     EmbreeAccelerator(const Scene& scene, BuildQuality quality) : Accelerator(scene) { build(toEmbree(quality)); }
 
     ~EmbreeAccelerator() override {
-        // Release the scene while the device's callbacks can still reach us.
+        // Release the scene while the device's callbacks can still reach us;
+        // the instances hold references to the prototype scenes, so those go after.
         rtcScene_.reset();
+        prototypeScenes_.clear();
         device_.reset();
     }
 
@@ -195,7 +210,8 @@ public:
             for (unsigned& id : rh.hit.instID) id = RTC_INVALID_GEOMETRY_ID;
             rtcIntersect1(rtcScene_.get(), &ctx, &rh);
             if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-                best = PrimIntersection{refOf(rh.hit.geomID, rh.hit.primID), rh.ray.tfar, rh.hit.u, rh.hit.v};
+                best = PrimIntersection{refOf(rh.hit.geomID, rh.hit.primID, rh.hit.instID[0]), rh.ray.tfar, rh.hit.u,
+                                        rh.hit.v};
                 r.tfar = rh.ray.tfar;
             }
         }
@@ -237,7 +253,9 @@ public:
     }
 
     // Maps an Embree hit back to the scene's arrays (geometries are attached by id).
-    PrimRef refOf(unsigned geomID, unsigned primID) const {
+    PrimRef refOf(unsigned geomID, unsigned primID, unsigned instID) const {
+        if (instID != RTC_INVALID_GEOMETRY_ID)
+            return PrimRef{ShapeKind::Instance, instID - firstInstanceGeomId_, primID, geomID};
         if (geomID >= kFirstMeshGeomId) return PrimRef{ShapeKind::Mesh, geomID - kFirstMeshGeomId, primID};
         if (geomID == kBoxGeomId) return PrimRef{ShapeKind::Box, boxOfQuad_[primID], 0};
         return PrimRef{kKindOfGeom[geomID], primID, 0};
@@ -283,8 +301,8 @@ public:
             if (!valid[l]) continue;
             Ray r = rays[l];
             if (rh.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID) {
-                out[l] = PrimIntersection{refOf(rh.hit.geomID[l], rh.hit.primID[l]), rh.ray.tfar[l], rh.hit.u[l],
-                                          rh.hit.v[l]};
+                out[l] = PrimIntersection{refOf(rh.hit.geomID[l], rh.hit.primID[l], rh.hit.instID[0][l]),
+                                          rh.ray.tfar[l], rh.hit.u[l], rh.hit.v[l]};
                 r.tfar = rh.ray.tfar[l];
             }
             closerPlane(r, out[l]);
@@ -407,7 +425,11 @@ private:
         addBoxQuads(quality);
         addRectangleQuads(quality);
         addUserGeometry<Disk>(quality);
-        for (size_t i = 0; i < scene_.meshes.size(); ++i) addMesh(i, quality);
+        for (size_t i = 0; i < scene_.meshes.size(); ++i)
+            attachMesh(scene_.meshes[i], rtcScene_.get(), kFirstMeshGeomId + static_cast<unsigned>(i), quality);
+        hasEmbreeGeometry_ = hasEmbreeGeometry_ || !scene_.meshes.empty();
+        firstInstanceGeomId_ = kFirstMeshGeomId + static_cast<unsigned>(scene_.meshes.size());
+        for (size_t j = 0; j < scene_.instances.size(); ++j) addInstance(j, quality);
 
         rtcCommitScene(rtcScene_.get());
         check("rtcCommitScene");
@@ -491,8 +513,7 @@ private:
         addQuads(corners, kRectangleGeomId, quality, "rectangle quads setup");
     }
 
-    void addMesh(size_t index, RTCBuildQuality quality) {
-        const TriangleMesh& m = scene_.meshes[index];
+    void attachMesh(const TriangleMesh& m, RTCScene target, unsigned geomId, RTCBuildQuality quality) {
         EmbreeGeometry g(rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE));
         check("rtcNewGeometry(triangle)");
         RTCGeometry geom = g.get();
@@ -505,8 +526,41 @@ private:
         rtcSetGeometryBuildQuality(geom, quality);
         rtcCommitGeometry(geom);
         check(("mesh '" + m.name + "' setup").c_str());
-        rtcAttachGeometryByID(rtcScene_.get(), geom, kFirstMeshGeomId + static_cast<unsigned>(index));
+        rtcAttachGeometryByID(target, geom, geomId);
         check(("rtcAttachGeometryByID(mesh '" + m.name + "')").c_str());
+    }
+
+    // The prototype's own scene, built on first use: instances share it.
+    RTCScene prototypeScene(uint32_t index, RTCBuildQuality quality) {
+        if (prototypeScenes_.empty()) prototypeScenes_.resize(scene_.prototypes.size());
+        EmbreeScene& ps = prototypeScenes_[index];
+        if (ps) return ps.get();
+        const Prototype& p = scene_.prototypes[index];
+        ps = EmbreeScene(rtcNewScene(device_.get()));
+        check("rtcNewScene(prototype)");
+        rtcSetSceneFlags(ps.get(), RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(ps.get(), quality);
+        for (size_t k = 0; k < p.meshes.size(); ++k) attachMesh(p.meshes[k], ps.get(), static_cast<unsigned>(k), quality);
+        rtcCommitScene(ps.get());
+        check(("rtcCommitScene(prototype '" + p.name + "')").c_str());
+        return ps.get();
+    }
+
+    void addInstance(size_t index, RTCBuildQuality quality) {
+        const Instance& in = scene_.instances[index];
+        RTCScene proto = prototypeScene(in.prototype, quality);
+        EmbreeGeometry g(rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_INSTANCE));
+        check("rtcNewGeometry(instance)");
+        RTCGeometry geom = g.get();
+        rtcSetGeometryInstancedScene(geom, proto);
+        float m[3][4];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) m[r][c] = in.worldFromObject(r, c);
+        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &m[0][0]);
+        rtcCommitGeometry(geom);
+        check("instance setup");
+        rtcAttachGeometryByID(rtcScene_.get(), geom, firstInstanceGeomId_ + static_cast<unsigned>(index));
+        check("rtcAttachGeometryByID(instance)");
         hasEmbreeGeometry_ = true;
     }
 
@@ -518,8 +572,10 @@ private:
     size_t memoryAfterCommit_ = 0;
     bool hasEmbreeGeometry_ = false;
     std::vector<uint32_t> boxOfQuad_;  // box index of each box quad (primID)
+    unsigned firstInstanceGeomId_ = kFirstMeshGeomId;
 
     EmbreeDevice device_;
+    std::vector<EmbreeScene> prototypeScenes_;  // by prototype index; empty handles for unused ones
     EmbreeScene rtcScene_;
 };
 

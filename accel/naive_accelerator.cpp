@@ -1,6 +1,11 @@
 // The O(N) reference accelerator: every query tests every primitive with the
 // same core routines the Embree user geometries call. It is the ground truth
 // the Embree agreement tests compare against, and the benchmark baseline.
+//
+// Instances are tested as Embree tests them: the ray is taken into the
+// prototype's object space (origin and direction by objectFromWorld, the
+// direction not renormalised, so t means the same distance along the ray in
+// both spaces) and meets the prototype's triangles there.
 #include <cmath>
 
 #include "accel/accelerator.h"
@@ -20,10 +25,11 @@ public:
         // them after its BVH query), so both break exact ties the same way.
         Ray r = ray;
         std::optional<PrimIntersection> best;
-        auto consider = [&](ShapeKind kind, size_t object, uint32_t prim, const std::optional<PrimHit>& h) {
+        auto consider = [&](ShapeKind kind, size_t object, uint32_t prim, const std::optional<PrimHit>& h,
+                            uint32_t part = 0) {
             if (!h) return;
             r.tfar = h->t;
-            best = PrimIntersection{PrimRef{kind, static_cast<uint32_t>(object), prim}, h->t, h->u, h->v};
+            best = PrimIntersection{PrimRef{kind, static_cast<uint32_t>(object), prim, part}, h->t, h->u, h->v};
         };
         const Scene& s = scene_;
         for (size_t i = 0; i < s.spheres.size(); ++i) consider(ShapeKind::Sphere, i, 0, penumbra::intersect(s.spheres[i], r));
@@ -38,6 +44,21 @@ public:
                 Vec3f p0, p1, p2;
                 mesh.vertices(t, p0, p1, p2);
                 consider(ShapeKind::Mesh, m, static_cast<uint32_t>(t), intersectTriangle(p0, p1, p2, r));
+            }
+        }
+        for (size_t i = 0; i < s.instances.size(); ++i) {
+            const Instance& in = s.instances[i];
+            const auto& parts = s.prototypes[in.prototype].meshes;
+            Ray o = objectRay(in, r);
+            for (size_t k = 0; k < parts.size(); ++k) {
+                const size_t n = parts[k].triangleCount();
+                for (size_t t = 0; t < n; ++t) {
+                    Vec3f p0, p1, p2;
+                    parts[k].vertices(t, p0, p1, p2);
+                    consider(ShapeKind::Instance, i, static_cast<uint32_t>(t), intersectTriangle(p0, p1, p2, o),
+                             static_cast<uint32_t>(k));
+                    o.tfar = r.tfar;
+                }
             }
         }
         for (size_t i = 0; i < s.planes.size(); ++i) consider(ShapeKind::Plane, i, 0, penumbra::intersect(s.planes[i], r));
@@ -69,7 +90,26 @@ public:
                 if (intersectTriangle(p0, p1, p2, r)) return true;
             }
         }
+        for (const Instance& in : s.instances) {
+            const Ray o = objectRay(in, r);
+            for (const TriangleMesh& mesh : s.prototypes[in.prototype].meshes) {
+                const size_t n = mesh.triangleCount();
+                for (size_t t = 0; t < n; ++t) {
+                    Vec3f p0, p1, p2;
+                    mesh.vertices(t, p0, p1, p2);
+                    if (intersectTriangle(p0, p1, p2, o)) return true;
+                }
+            }
+        }
         return false;
+    }
+
+    // The world ray in the instance's object space, same interval.
+    static Ray objectRay(const Instance& in, const Ray& r) {
+        Ray o = r;
+        o.o = in.objectFromWorld.applyPoint(r.o);
+        o.d = in.objectFromWorld.applyVector(r.d);
+        return o;
     }
 
     std::string name() const override { return "naive"; }

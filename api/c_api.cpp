@@ -162,21 +162,27 @@ pnb_status pnb_scene_add_disk(pnb_scene* scene, pnb_vec3 center, pnb_vec3 normal
     });
 }
 
+namespace {
+pnb::MeshDesc meshDesc(const pnb_mesh_desc& mesh) {
+    pnb::MeshDesc d;
+    if (mesh.name) d.name = mesh.name;
+    d.positions = mesh.positions;
+    d.vertexCount = mesh.vertex_count;
+    d.indices = mesh.indices;
+    d.triangleCount = mesh.triangle_count;
+    d.normals = mesh.normals;
+    d.uvs = mesh.uvs;
+    d.faceMaterials = mesh.face_materials;
+    d.material = mesh.material;
+    return d;
+}
+}  // namespace
+
 pnb_status pnb_scene_add_mesh(pnb_scene* scene, const pnb_mesh_desc* mesh) {
     return guard(scene ? &scene->error : nullptr, "pnb_scene_add_mesh", [&] {
         need(scene, "scene");
         need(mesh, "mesh");
-        pnb::MeshDesc d;
-        if (mesh->name) d.name = mesh->name;
-        d.positions = mesh->positions;
-        d.vertexCount = mesh->vertex_count;
-        d.indices = mesh->indices;
-        d.triangleCount = mesh->triangle_count;
-        d.normals = mesh->normals;
-        d.uvs = mesh->uvs;
-        d.faceMaterials = mesh->face_materials;
-        d.material = mesh->material;
-        scene->scene.addMesh(d);
+        scene->scene.addMesh(meshDesc(*mesh));
     });
 }
 
@@ -243,6 +249,36 @@ pnb_status pnb_scene_get_settings(const pnb_scene* scene, pnb_render_settings* o
 }
 
 size_t pnb_scene_primitive_count(const pnb_scene* scene) { return scene ? scene->scene.primitiveCount() : 0; }
+
+pnb_status pnb_scene_add_prototype(pnb_scene* scene, const char* name, uint32_t* out_id) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_prototype", [&] {
+        need(scene, "scene");
+        need(out_id, "out_id");
+        *out_id = scene->scene.addPrototype(name ? name : "");
+    });
+}
+
+pnb_status pnb_scene_add_prototype_mesh(pnb_scene* scene, uint32_t prototype, const pnb_mesh_desc* mesh) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_prototype_mesh", [&] {
+        need(scene, "scene");
+        need(mesh, "mesh");
+        scene->scene.addPrototypeMesh(prototype, meshDesc(*mesh));
+    });
+}
+
+pnb_status pnb_scene_add_instance(pnb_scene* scene, uint32_t prototype, const float* world_from_object,
+                                  uint32_t material) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_add_instance", [&] {
+        need(scene, "scene");
+        pnb::Matrix3x4 m;
+        if (world_from_object)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 4; ++c) m.m[r][c] = world_from_object[4 * r + c];
+        std::optional<pnb::MaterialId> mat;
+        if (material != PNB_KEEP_MATERIALS) mat = material;
+        scene->scene.addInstance(prototype, m, mat);
+    });
+}
 
 // ---------------------------------------------------------------- prepared scene
 

@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "api/c_api_internal.h"
+#include "core/instance.h"
 
 // Enumerations: one set of values, spelled twice (C cannot include C++).
 #define PNB_SAME_VALUE(c, cpp) static_assert(static_cast<int>(c) == static_cast<int>(cpp), #c " != " #cpp)
@@ -223,3 +224,6 @@ pnb_status pnb_camera_validate(const pnb_camera* camera) {
 }
 
 }  // extern "C"
+
+// pnb_scene_add_instance's "keep the prototype's materials" is the library's "no override".
+static_assert(PNB_KEEP_MATERIALS == penumbra::kNoMaterialOverride);

@@ -42,6 +42,55 @@ void requireMaterial(const pn::Scene& s, MaterialId id, const std::string& what)
                             std::to_string(s.materials.size()) + " materials)");
 }
 
+// A MeshDesc checked and copied (addMesh, addPrototypeMesh).
+pn::TriangleMesh meshFrom(const pn::Scene& s, const MeshDesc& d) {
+    const std::string what = "mesh '" + d.name + "'";
+    require(d.vertexCount > 0 && d.triangleCount > 0, what + ": needs at least one vertex and one triangle");
+    require(d.positions != nullptr, what + ": positions are null");
+    require(d.indices != nullptr, what + ": indices are null");
+    require(d.vertexCount <= std::numeric_limits<uint32_t>::max() &&
+                d.triangleCount <= std::numeric_limits<uint32_t>::max() / 3,
+            what + ": too many vertices or triangles for 32-bit indices");
+    if (!d.faceMaterials) requireMaterial(s, d.material, what);
+
+    pn::TriangleMesh mesh;
+    mesh.name = d.name;
+    mesh.material = d.material;
+    mesh.positions.reserve(d.vertexCount);
+    for (size_t i = 0; i < d.vertexCount; ++i) {
+        const Vec3 p{d.positions[3 * i], d.positions[3 * i + 1], d.positions[3 * i + 2]};
+        require(finite(p), what + ": vertex " + std::to_string(i) + " is not finite");
+        mesh.positions.push_back(in(p));
+    }
+    mesh.indices.assign(d.indices, d.indices + 3 * d.triangleCount);
+    for (size_t i = 0; i < mesh.indices.size(); ++i)
+        require(mesh.indices[i] < d.vertexCount,
+                what + ": triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(mesh.indices[i]) +
+                    ", but the mesh has " + std::to_string(d.vertexCount) + " vertices");
+    if (d.normals) {
+        mesh.normals.reserve(d.vertexCount);
+        for (size_t i = 0; i < d.vertexCount; ++i) {
+            const Vec3 n{d.normals[3 * i], d.normals[3 * i + 1], d.normals[3 * i + 2]};
+            require(finite(n), what + ": normal " + std::to_string(i) + " is not finite");
+            mesh.normals.push_back(in(n));
+        }
+    }
+    if (d.uvs) {
+        mesh.uvs.reserve(d.vertexCount);
+        for (size_t i = 0; i < d.vertexCount; ++i) {
+            const float u = d.uvs[2 * i], v = d.uvs[2 * i + 1];
+            require(std::isfinite(u) && std::isfinite(v), what + ": uv " + std::to_string(i) + " is not finite");
+            mesh.uvs.push_back(pn::Vec2f{u, v});
+        }
+    }
+    if (d.faceMaterials) {
+        mesh.faceMaterials.assign(d.faceMaterials, d.faceMaterials + d.triangleCount);
+        for (size_t t = 0; t < d.triangleCount; ++t)
+            requireMaterial(s, mesh.faceMaterials[t], what + ": triangle " + std::to_string(t));
+    }
+    return mesh;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- Scene
@@ -144,54 +193,7 @@ void Scene::addDisk(const Vec3& center, const Vec3& normal, float radius, Materi
 }
 
 void Scene::addMesh(const MeshDesc& d) {
-    guarded([&] {
-        const std::string what = "mesh '" + d.name + "'";
-        require(d.vertexCount > 0 && d.triangleCount > 0, what + ": needs at least one vertex and one triangle");
-        require(d.positions != nullptr, what + ": positions are null");
-        require(d.indices != nullptr, what + ": indices are null");
-        require(d.vertexCount <= std::numeric_limits<uint32_t>::max() &&
-                    d.triangleCount <= std::numeric_limits<uint32_t>::max() / 3,
-                what + ": too many vertices or triangles for 32-bit indices");
-        pn::Scene& s = impl_->scene;
-        if (!d.faceMaterials) requireMaterial(s, d.material, what);
-
-        pn::TriangleMesh mesh;
-        mesh.name = d.name;
-        mesh.material = d.material;
-        mesh.positions.reserve(d.vertexCount);
-        for (size_t i = 0; i < d.vertexCount; ++i) {
-            const Vec3 p{d.positions[3 * i], d.positions[3 * i + 1], d.positions[3 * i + 2]};
-            require(finite(p), what + ": vertex " + std::to_string(i) + " is not finite");
-            mesh.positions.push_back(in(p));
-        }
-        mesh.indices.assign(d.indices, d.indices + 3 * d.triangleCount);
-        for (size_t i = 0; i < mesh.indices.size(); ++i)
-            require(mesh.indices[i] < d.vertexCount,
-                    what + ": triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(mesh.indices[i]) +
-                        ", but the mesh has " + std::to_string(d.vertexCount) + " vertices");
-        if (d.normals) {
-            mesh.normals.reserve(d.vertexCount);
-            for (size_t i = 0; i < d.vertexCount; ++i) {
-                const Vec3 n{d.normals[3 * i], d.normals[3 * i + 1], d.normals[3 * i + 2]};
-                require(finite(n), what + ": normal " + std::to_string(i) + " is not finite");
-                mesh.normals.push_back(in(n));
-            }
-        }
-        if (d.uvs) {
-            mesh.uvs.reserve(d.vertexCount);
-            for (size_t i = 0; i < d.vertexCount; ++i) {
-                const float u = d.uvs[2 * i], v = d.uvs[2 * i + 1];
-                require(std::isfinite(u) && std::isfinite(v), what + ": uv " + std::to_string(i) + " is not finite");
-                mesh.uvs.push_back(pn::Vec2f{u, v});
-            }
-        }
-        if (d.faceMaterials) {
-            mesh.faceMaterials.assign(d.faceMaterials, d.faceMaterials + d.triangleCount);
-            for (size_t t = 0; t < d.triangleCount; ++t)
-                requireMaterial(s, mesh.faceMaterials[t], what + ": triangle " + std::to_string(t));
-        }
-        s.meshes.push_back(std::move(mesh));
-    });
+    guarded([&] { impl_->scene.meshes.push_back(meshFrom(impl_->scene, d)); });
 }
 
 void Scene::addMesh(const std::vector<float>& positions, const std::vector<std::uint32_t>& indices,
@@ -261,5 +263,48 @@ RenderSettings Scene::settings() const { return settingsFrom(impl_->settings); }
 std::size_t Scene::materialCount() const { return impl_->scene.materials.size(); }
 std::size_t Scene::primitiveCount() const { return impl_->scene.primitiveCount(); }
 std::size_t Scene::triangleCount() const { return impl_->scene.triangleCount(); }
+
+PrototypeId Scene::addPrototype(const std::string& name) {
+    return guarded([&] {
+        pn::Scene& s = impl_->scene;
+        require(s.prototypes.size() < std::numeric_limits<PrototypeId>::max(), "too many prototypes");
+        s.prototypes.push_back(pn::Prototype{name, {}});
+        return PrototypeId(s.prototypes.size() - 1);
+    });
+}
+
+namespace {
+void requirePrototype(const pn::Scene& s, PrototypeId id, const char* what) {
+    require(id < s.prototypes.size(), std::string(what) + ": prototype id " + std::to_string(id) +
+                                          " does not exist (the scene has " + std::to_string(s.prototypes.size()) +
+                                          " prototypes)");
+}
+}  // namespace
+
+void Scene::addPrototypeMesh(PrototypeId prototype, const MeshDesc& d) {
+    guarded([&] {
+        pn::Scene& s = impl_->scene;
+        requirePrototype(s, prototype, "addPrototypeMesh");
+        pn::TriangleMesh mesh = meshFrom(s, d);
+        s.prototypes[prototype].meshes.push_back(std::move(mesh));
+    });
+}
+
+void Scene::addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject, std::optional<MaterialId> material) {
+    guarded([&] {
+        pn::Scene& s = impl_->scene;
+        requirePrototype(s, prototype, "addInstance");
+        for (const auto& row : worldFromObject.m)
+            for (float v : row) require(std::isfinite(v), "instance transform must be finite");
+        const pn::Transform t = in(worldFromObject);
+        pn::Transform inverse;
+        require(std::isfinite(t.determinant()) && t.inverse(inverse), "instance transform is singular");
+        if (material) requireMaterial(s, *material, "instance");
+        s.instances.push_back(pn::makeInstance(prototype, t, material ? *material : pn::kNoMaterialOverride));
+    });
+}
+
+std::size_t Scene::prototypeCount() const { return impl_->scene.prototypes.size(); }
+std::size_t Scene::instanceCount() const { return impl_->scene.instances.size(); }
 
 }  // namespace pnb

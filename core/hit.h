@@ -7,14 +7,18 @@
 
 namespace penumbra {
 
-enum class ShapeKind : uint8_t { Mesh = 0, Sphere = 1, Plane = 2, Box = 3, Rectangle = 4, Disk = 5 };
+/// Instance: a triangle of a mesh drawn through an instance (core/instance.h).
+enum class ShapeKind : uint8_t { Mesh = 0, Sphere = 1, Plane = 2, Box = 3, Rectangle = 4, Disk = 5, Instance = 6 };
 
 /// Identifies one primitive of the scene: shape kind, object index within that
-/// kind's array of the Scene, and triangle index (meshes) or 0.
+/// kind's array of the Scene, and triangle index (meshes) or 0. For an
+/// instance hit, object is the index in Scene::instances, prim the triangle
+/// and part the mesh within the instance's prototype (0 for everything else).
 struct PrimRef {
     ShapeKind kind = ShapeKind::Mesh;
     uint32_t object = 0;
     uint32_t prim = 0;
+    uint32_t part = 0;
     bool operator==(const PrimRef&) const = default;
 };
 

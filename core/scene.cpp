@@ -64,6 +64,41 @@ size_t repairMesh(TriangleMesh& m, const Logger& log) {
     return nt - kept;
 }
 
+// Drops the instances no accelerator can place: an unknown prototype, a
+// non-finite or singular transform; refreshes the others' inverses.
+size_t dropBadInstances(std::vector<Instance>& instances, size_t prototypeCount) {
+    const size_t dropped = eraseIf(instances, [&](const Instance& in) {
+        Transform inv;
+        return in.prototype >= prototypeCount || !finiteTransform(in.worldFromObject) ||
+               !std::isfinite(in.worldFromObject.determinant()) || !in.worldFromObject.inverse(inv) ||
+               !finiteTransform(inv);
+    });
+    for (auto& in : instances) in.worldFromObject.inverse(in.objectFromWorld);
+    return dropped;
+}
+
+// The rule of core/instance.h: an instance that would emit light becomes
+// ordinary meshes, so the light set sees each copy as an area light.
+void expandEmissiveInstances(Scene& s) {
+    auto emissive = [&](const Instance& in) {
+        if (in.material != kNoMaterialOverride)
+            return s.materials[in.material < s.materials.size() ? in.material : 0].isEmissive();
+        return s.prototypes[in.prototype].usesEmissive(s.materials);
+    };
+    eraseIf(s.instances, [&](const Instance& in) {
+        if (!emissive(in)) return false;
+        for (const TriangleMesh& m : s.prototypes[in.prototype].meshes) {
+            TriangleMesh copy = placedCopy(m, in.worldFromObject);
+            if (in.material != kNoMaterialOverride) {
+                copy.material = in.material;
+                copy.faceMaterials.clear();
+            }
+            s.meshes.push_back(std::move(copy));
+        }
+        return true;
+    });
+}
+
 }  // namespace
 
 SceneFixups Scene::finalize(const Logger& log) {
@@ -73,8 +108,15 @@ SceneFixups Scene::finalize(const Logger& log) {
         def.name = "default";
         materials.push_back(def);
     }
+    fix.droppedInstances += dropBadInstances(instances, prototypes.size());
+    expandEmissiveInstances(*this);
     for (auto& m : meshes) fix.droppedTriangles += repairMesh(m, log);
     eraseIf(meshes, [](const TriangleMesh& m) { return m.indices.empty(); });
+    for (auto& p : prototypes) {
+        for (auto& m : p.meshes) fix.droppedTriangles += repairMesh(m, log);
+        eraseIf(p.meshes, [](const TriangleMesh& m) { return m.indices.empty(); });
+    }
+    fix.droppedInstances += eraseIf(instances, [&](const Instance& in) { return prototypes[in.prototype].meshes.empty(); });
 
     fix.droppedShapes += eraseIf(spheres, [](const Sphere& s) {
         return !isFinite(s.center) || !std::isfinite(s.radius) || !(s.radius > 0.f);
@@ -117,6 +159,14 @@ SceneFixups Scene::finalize(const Logger& log) {
         fixId(m.material);
         for (auto& id : m.faceMaterials) fixId(id);
     }
+    for (auto& p : prototypes) {
+        for (auto& m : p.meshes) {
+            fixId(m.material);
+            for (auto& id : m.faceMaterials) fixId(id);
+        }
+    }
+    for (auto& in : instances)
+        if (in.material != kNoMaterialOverride) fixId(in.material);
     for (auto& m : materials)
         if (m.textureIndex >= static_cast<int>(textures.size())) m.textureIndex = -1;
 
@@ -128,8 +178,15 @@ SceneFixups Scene::finalize(const Logger& log) {
     if (beyond.shapes || beyond.triangles)
         log.warn("dropped " + std::to_string(beyond.shapes) + " shape(s) and " + std::to_string(beyond.triangles) +
                  " triangle(s) reaching beyond +-1.8e18, the largest coordinate the accelerators represent");
+    if (beyond.instances)
+        log.warn("dropped " + std::to_string(beyond.instances) +
+                 " instance(s) reaching beyond +-1.8e18, the largest coordinate the accelerators represent");
     fix.droppedShapes += beyond.shapes;
     fix.droppedTriangles += beyond.triangles;
+    fix.droppedInstances += beyond.instances;
+    if (fix.droppedInstances)
+        log.warn("dropped " + std::to_string(fix.droppedInstances - beyond.instances) +
+                 " instance(s) with an unknown or empty prototype or a non-finite or singular transform");
     if (badIds) log.warn(std::to_string(badIds) + " material reference(s) out of range; using material 0");
     return fix;
 }
@@ -142,17 +199,56 @@ Bounds3f Scene::bounds() const {
     for (const auto& s : disks) b.extend(penumbra::bounds(s));
     for (const auto& m : meshes)
         for (uint32_t i : m.indices) b.extend(m.positions[i]);
+    for (const auto& in : instances)
+        if (in.prototype < prototypes.size()) b.extend(instanceBounds(prototypes[in.prototype], in));
     return b;
 }
 
 size_t Scene::triangleCount() const {
     size_t n = 0;
     for (const auto& m : meshes) n += m.triangleCount();
+    for (const auto& in : instances)
+        if (in.prototype < prototypes.size()) n += prototypes[in.prototype].triangleCount();
     return n;
+}
+
+const TriangleMesh* Scene::meshOf(const PrimRef& ref, Transform* worldFromObject) const {
+    if (ref.kind == ShapeKind::Mesh) {
+        if (worldFromObject) *worldFromObject = Transform();
+        return &meshes[ref.object];
+    }
+    if (ref.kind != ShapeKind::Instance) return nullptr;
+    const Instance& in = instances[ref.object];
+    if (worldFromObject) *worldFromObject = in.worldFromObject;
+    return &prototypes[in.prototype].meshes[ref.part];
 }
 
 size_t Scene::primitiveCount() const {
     return triangleCount() + spheres.size() + planes.size() + boxes.size() + rectangles.size() + disks.size();
+}
+
+Hit Scene::completeInstanceHit(const PrimRef& ref, float u, float v) const {
+    // The triangle is placed first and completed as a copy of the placed
+    // vertices would be (normals as placedCopy transforms them), so an
+    // instance hit equals the copy's hit bit for bit given the same (u, v);
+    // a mirroring transform thereby flips the front, as it does for the copy.
+    const Instance& in = instances[ref.object];
+    const TriangleMesh& m = prototypes[in.prototype].meshes[ref.part];
+    const Transform& place = in.worldFromObject;
+    const uint32_t* idx = &m.indices[3 * size_t(ref.prim)];
+    TriangleCorners c;
+    Vec3f n[3];
+    Vec2f uv[3];
+    for (int k = 0; k < 3; ++k) {
+        c.p[k] = place.applyPoint(m.positions[idx[k]]);
+        if (!m.normals.empty()) n[k] = normalize(place.applyNormal(m.normals[idx[k]]));
+        if (!m.uvs.empty()) uv[k] = m.uvs[idx[k]];
+    }
+    c.n = m.normals.empty() ? nullptr : n;
+    c.uv = m.uvs.empty() ? nullptr : uv;
+    Hit h = completeTriangleHit(c, u, v);
+    h.material = in.material != kNoMaterialOverride ? in.material : m.materialOf(ref.prim);
+    return h;
 }
 
 Hit Scene::completeHit(const Ray& ray, PrimRef ref, float t, float u, float v) const {
@@ -165,6 +261,7 @@ Hit Scene::completeHit(const Ray& ray, PrimRef ref, float t, float u, float v) c
         case ShapeKind::Box: h = penumbra::completeHit(boxes[ref.object], ray, t); break;
         case ShapeKind::Rectangle: h = penumbra::completeHit(rectangles[ref.object], u, v); break;
         case ShapeKind::Disk: h = penumbra::completeHit(disks[ref.object], u, v); break;
+        case ShapeKind::Instance: h = completeInstanceHit(ref, u, v); break;
     }
     h.t = t;
     h.ref = ref;

@@ -10,6 +10,7 @@
 
 #include "core/color.h"
 #include "core/hit.h"
+#include "core/instance.h"
 #include "core/log.h"
 #include "core/material.h"
 #include "core/mesh.h"
@@ -37,6 +38,7 @@ struct DirectionalLight {
 struct SceneFixups {
     size_t droppedTriangles = 0;  // bad indices, non-finite or degenerate (zero-area) vertices
     size_t droppedShapes = 0;     // analytic shapes with non-finite or degenerate parameters
+    size_t droppedInstances = 0;  // unknown or empty prototype, non-finite or singular transform, out of range
 };
 
 class Scene {
@@ -56,6 +58,8 @@ public:
     std::vector<std::shared_ptr<const InputFile>> textureFiles;
     Rgb ambient{0.f};                   // global ambient light La
     Rgb background{0.f};                // radiance of rays that leave the scene
+    std::vector<Prototype> prototypes;  // meshes drawn only through instances (core/instance.h)
+    std::vector<Instance> instances;
 
     /// Validates and repairs the scene so that every accelerator sees exactly
     /// the same primitives: drops triangles with out-of-range indices,
@@ -63,7 +67,10 @@ public:
     /// or degenerate parameters, normalises plane/disk normals, clamps material
     /// ids, and drops mesh normals/UVs whose count does not match the vertices.
     /// Each kind of repair is logged once with its count. A scene without
-    /// materials gets the default grey one. Idempotent.
+    /// materials gets the default grey one. Instances with an unknown or empty
+    /// prototype or a non-finite or singular transform are dropped; instances
+    /// of emissive prototypes (or with an emissive material override) are
+    /// expanded into world-space meshes (core/instance.h). Idempotent.
     SceneFixups finalize(const Logger& log);
 
     /// Bounds of all finite geometry (planes excluded).
@@ -73,9 +80,16 @@ public:
     /// call this, so their hits are identical given the same (ref, t, u, v).
     Hit completeHit(const Ray& ray, PrimRef ref, float t, float u, float v) const;
 
+    /// Triangles as rendered: each instance counts its prototype's triangles.
     size_t triangleCount() const;
+    /// The mesh a Mesh or Instance hit lies on and the transform that places
+    /// it (identity for Scene::meshes); nullptr for the other shapes.
+    const TriangleMesh* meshOf(const PrimRef& ref, Transform* worldFromObject) const;
     size_t primitiveCount() const;
     const Material& material(uint32_t id) const { return materials[id]; }
+
+private:
+    Hit completeInstanceHit(const PrimRef& ref, float u, float v) const;
 };
 
 }  // namespace penumbra

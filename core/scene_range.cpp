@@ -56,6 +56,21 @@ RangeDrops dropBeyondSceneRange(Scene& scene) {
     scene.meshes.erase(std::remove_if(scene.meshes.begin(), scene.meshes.end(),
                                       [](const TriangleMesh& m) { return m.indices.empty(); }),
                        scene.meshes.end());
+    for (auto& p : scene.prototypes) {
+        for (auto& m : p.meshes) d.triangles += dropTriangles(m);
+        p.meshes.erase(std::remove_if(p.meshes.begin(), p.meshes.end(),
+                                      [](const TriangleMesh& m) { return m.indices.empty(); }),
+                       p.meshes.end());
+    }
+    // An instance of a prototype left empty has nothing to draw.
+    const size_t before = scene.instances.size();
+    scene.instances.erase(std::remove_if(scene.instances.begin(), scene.instances.end(),
+                                         [&](const Instance& in) {
+                                             const Prototype& p = scene.prototypes[in.prototype];
+                                             return p.meshes.empty() || !withinSceneRange(instanceBounds(p, in));
+                                         }),
+                          scene.instances.end());
+    d.instances = before - scene.instances.size();
     return d;
 }
 

@@ -23,10 +23,13 @@ bool withinSceneRange(const Vec3f& p);
 struct RangeDrops {
     size_t shapes = 0;
     size_t triangles = 0;
+    size_t instances = 0;
 };
 
 /// Removes the finite shapes (planes are infinite and tested analytically) and
 /// the triangles that reach beyond the range; meshes left empty are removed.
+/// Prototype triangles are held to the range in object space (Embree builds
+/// their BVH there), instances by their world-space bounds.
 RangeDrops dropBeyondSceneRange(Scene& scene);
 
 }  // namespace penumbra

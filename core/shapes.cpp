@@ -218,24 +218,37 @@ std::optional<PrimHit> intersectTriangle(const Vec3f& p0, const Vec3f& p1, const
     return PrimHit{t, e1 * invDet, e2 * invDet};
 }
 
-Hit completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v) {
+Hit completeTriangleHit(const TriangleCorners& c, float u, float v) {
     Hit h;
-    const uint32_t* idx = &m.indices[3 * size_t(tri)];
-    const Vec3f &p0 = m.positions[idx[0]], &p1 = m.positions[idx[1]], &p2 = m.positions[idx[2]];
     const float w = 1.f - u - v;
-    h.p = w * p0 + u * p1 + v * p2;
-    h.ng = normalize(cross(p1 - p0, p2 - p0));
+    h.p = w * c.p[0] + u * c.p[1] + v * c.p[2];
+    h.ng = normalize(cross(c.p[1] - c.p[0], c.p[2] - c.p[0]));
     h.ns = h.ng;
-    if (!m.normals.empty()) {
-        const Vec3f n = normalize(w * m.normals[idx[0]] + u * m.normals[idx[1]] + v * m.normals[idx[2]]);
+    if (c.n) {
+        const Vec3f n = normalize(w * c.n[0] + u * c.n[1] + v * c.n[2]);
         if (lengthSquared(n) > 0.f) h.ns = dot(n, h.ng) < 0.f ? -n : n;
     }
-    if (!m.uvs.empty()) {
-        const Vec2f &a = m.uvs[idx[0]], &b = m.uvs[idx[1]], &c = m.uvs[idx[2]];
-        h.uv = {w * a.x + u * b.x + v * c.x, w * a.y + u * b.y + v * c.y};
+    if (c.uv) {
+        h.uv = {w * c.uv[0].x + u * c.uv[1].x + v * c.uv[2].x, w * c.uv[0].y + u * c.uv[1].y + v * c.uv[2].y};
     } else {
         h.uv = {u, v};
     }
+    return h;
+}
+
+Hit completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v) {
+    const uint32_t* idx = &m.indices[3 * size_t(tri)];
+    TriangleCorners c;
+    Vec3f n[3];
+    Vec2f uv[3];
+    for (int k = 0; k < 3; ++k) {
+        c.p[k] = m.positions[idx[k]];
+        if (!m.normals.empty()) n[k] = m.normals[idx[k]];
+        if (!m.uvs.empty()) uv[k] = m.uvs[idx[k]];
+    }
+    c.n = m.normals.empty() ? nullptr : n;
+    c.uv = m.uvs.empty() ? nullptr : uv;
+    Hit h = completeTriangleHit(c, u, v);
     h.material = m.materialOf(tri);
     return h;
 }

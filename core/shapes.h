@@ -93,6 +93,15 @@ Hit completeHit(const Plane& p, const Ray& r, float t);
 Hit completeHit(const Box& b, const Ray& r, float t);
 Hit completeHit(const Rectangle& q, float u, float v);
 Hit completeHit(const Disk& d, float u, float v);
+/// One triangle's corners: positions, and (optional, else null) 3 vertex normals and 3 UVs.
+struct TriangleCorners {
+    Vec3f p[3];
+    const Vec3f* n = nullptr;
+    const Vec2f* uv = nullptr;
+};
+/// The hit at barycentrics (1-u-v, u, v) of a triangle given by its corners
+/// (what the mesh version computes; material left 0).
+Hit completeTriangleHit(const TriangleCorners& corners, float u, float v);
 /// Triangle `tri` of a mesh at barycentrics (u, v): interpolated point, smooth
 /// normal (when the mesh has normals) and uv.
 Hit completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v);

@@ -15,13 +15,16 @@ Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLengt
     // distance travelled times the pixel's angle, stretched by the grazing
     // angle), converted to uv units with the triangle's uv-per-world scale.
     float footprint = 0.f;
-    if (pixelSpread_ > 0.f && hit.ref.kind == ShapeKind::Mesh) {
-        const TriangleMesh& mesh = scene_.meshes[hit.ref.object];
+    Transform place;  // an instanced mesh's triangle is measured where the instance puts it
+    const TriangleMesh* meshPtr = pixelSpread_ > 0.f ? scene_.meshOf(hit.ref, &place) : nullptr;
+    if (meshPtr) {
+        const TriangleMesh& mesh = *meshPtr;
         if (!mesh.uvs.empty()) {
             const uint32_t* idx = &mesh.indices[3 * hit.ref.prim];
             const Vec2f &a = mesh.uvs[idx[0]], &b = mesh.uvs[idx[1]], &c = mesh.uvs[idx[2]];
             const float uvArea = std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
-            const Vec3f &p0 = mesh.positions[idx[0]], &p1 = mesh.positions[idx[1]], &p2 = mesh.positions[idx[2]];
+            const Vec3f p0 = place.applyPoint(mesh.positions[idx[0]]), p1 = place.applyPoint(mesh.positions[idx[1]]),
+                        p2 = place.applyPoint(mesh.positions[idx[2]]);
             const float worldArea = length(cross(p1 - p0, p2 - p0));
             if (worldArea > 0.f) {
                 const float cosTheta = std::max(std::fabs(dot(wo, hit.ns)), 0.2f);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -97,6 +98,20 @@ private:
     /// An area light is an emitting shape: black, non-reflective, ke = radiance.
     uint32_t lightMaterial(const Json& j, const std::string& ptr, Scene& scene) const;
 
+    // ---- prototypes and instances (json_instances.cpp)
+    void readPrototypes(const Json& j, const std::string& ptr, Scene& scene);
+    /// Index in Scene::prototypes of the prototype `name`, read on first use;
+    /// refPtr is where the name was given (for unknown names and cycles).
+    uint32_t resolvePrototype(const std::string& name, const std::string& refPtr, Scene& scene);
+    struct PlacedPrototype {
+        uint32_t prototype = 0;
+        Transform worldFromObject;
+        uint32_t material = kNoMaterialOverride;
+    };
+    /// The keys of an "instance" entry, checked.
+    PlacedPrototype readPlacement(const Json& j, const std::string& ptr, Scene& scene);
+    void readInstance(const Json& j, const std::string& ptr, Scene& scene);
+
     /// Refuses a shape whose bounds reach beyond what the accelerators represent.
     void checkRange(const Bounds3f& b, const std::string& ptr) const;
 
@@ -105,6 +120,13 @@ private:
     const LoadOptions& options_;
     const Logger& log_;
     std::map<std::string, uint32_t> names_;  // JSON material name -> Scene::materials index
+    struct PrototypeEntry {
+        const Json* json = nullptr;
+        std::string ptr;
+        std::optional<uint32_t> index;  // in Scene::prototypes, once read
+    };
+    std::map<std::string, PrototypeEntry> prototypeEntries_;  // by name
+    std::vector<std::string> resolving_;                      // the prototypes being read, outermost first
 };
 
 }  // namespace penumbra

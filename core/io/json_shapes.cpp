@@ -59,9 +59,11 @@ void SceneReader::readShape(const Json& j, const std::string& ptr, Scene& scene)
             readObjMesh(j, ptr, scene);
         else
             readInlineMesh(j, ptr, scene);
+    } else if (type == "instance") {
+        readInstance(j, ptr, scene);
     } else {
         fail(ErrorCode::ParseError, child(ptr, "type"),
-             "unknown shape type " + quotedValue(type) + " (expected sphere, plane, box, rectangle, disk or mesh)");
+             "unknown shape type " + quotedValue(type) + " (expected sphere, plane, box, rectangle, disk, mesh or instance)");
     }
 }
 

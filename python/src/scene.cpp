@@ -66,9 +66,12 @@ IndexArray indicesFrom(const py::object& obj, const char* what) {
     return IndexArray::ensure(raw);
 }
 
-void addMesh(pnb::Scene& scene, const py::object& positions, const py::object& indices, pnb::MaterialId material,
-             const py::object& normals, const py::object& uvs, const py::object& faceMaterials,
-             const std::string& name) {
+// Checks the arrays, fills a MeshDesc pointing into them and hands it to `add`
+// (the arrays must outlive the call).
+template <class Add>
+void withMeshDesc(const py::object& positions, const py::object& indices, pnb::MaterialId material,
+                  const py::object& normals, const py::object& uvs, const py::object& faceMaterials,
+                  const std::string& name, Add add) {
     const FloatArray pos = floatsFrom(positions, "positions");
     const IndexArray idx = indicesFrom(indices, "indices");
     pnb::MeshDesc d;
@@ -101,7 +104,21 @@ void addMesh(pnb::Scene& scene, const py::object& positions, const py::object& i
                     std::to_string(d.triangleCount) + " triangles");
         d.faceMaterials = fm.data();
     }
-    scene.addMesh(d);
+    add(d);
+}
+
+void addMesh(pnb::Scene& scene, const py::object& positions, const py::object& indices, pnb::MaterialId material,
+             const py::object& normals, const py::object& uvs, const py::object& faceMaterials,
+             const std::string& name) {
+    withMeshDesc(positions, indices, material, normals, uvs, faceMaterials, name,
+                 [&](const pnb::MeshDesc& d) { scene.addMesh(d); });
+}
+
+void addPrototypeMesh(pnb::Scene& scene, pnb::PrototypeId prototype, const py::object& positions,
+                      const py::object& indices, pnb::MaterialId material, const py::object& normals,
+                      const py::object& uvs, const py::object& faceMaterials, const std::string& name) {
+    withMeshDesc(positions, indices, material, normals, uvs, faceMaterials, name,
+                 [&](const pnb::MeshDesc& d) { scene.addPrototypeMesh(prototype, d); });
 }
 
 py::object optionalCamera(const std::optional<pnb::Camera>& c) { return c ? py::cast(*c) : py::none(); }
@@ -162,6 +179,23 @@ void bindScene(py::module_& m) {
         .def_property_readonly("material_count", &pnb::Scene::materialCount)
         .def_property_readonly("primitive_count", &pnb::Scene::primitiveCount)
         .def_property_readonly("triangle_count", &pnb::Scene::triangleCount)
+        .def("add_prototype", &pnb::Scene::addPrototype, py::arg("name") = "",
+             "Adds an empty prototype (a named group of meshes drawn only through instances) and returns its id.")
+        .def("add_prototype_mesh", &addPrototypeMesh, py::arg("prototype"), py::arg("positions"), py::arg("indices"),
+             py::arg("material") = 0, py::kw_only(), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
+             py::arg("face_materials") = py::none(), py::arg("name") = "",
+             "Copies a triangle mesh into a prototype (its object space); the arrays as for add_mesh.")
+        .def(
+            "add_instance",
+            [](pnb::Scene& s, pnb::PrototypeId prototype, const std::optional<pnb::Matrix3x4>& transform,
+               std::optional<pnb::MaterialId> material) {
+                s.addInstance(prototype, transform ? *transform : pnb::Matrix3x4{}, material);
+            },
+            py::arg("prototype"), py::arg("transform") = py::none(), py::arg("material") = py::none(),
+            "Places a prototype by a world-from-object transform (Matrix3x4, invertible; None = identity); "
+            "material, when given, replaces the material of every face.")
+        .def_property_readonly("prototype_count", &pnb::Scene::prototypeCount)
+        .def_property_readonly("instance_count", &pnb::Scene::instanceCount)
         .def("__repr__", [](const pnb::Scene& s) {
             return "<penumbra.Scene: " + std::to_string(s.materialCount()) + " materials, " +
                    std::to_string(s.primitiveCount()) + " primitives (" + std::to_string(s.triangleCount()) +

@@ -160,3 +160,35 @@ def test_log_callback_receives_warnings(tmp_path):
     assert messages and messages[0][0] == penumbra.LogLevel.Warning and "faces.obj" in messages[0][1]
     with pytest.raises(penumbra.Error):
         renderer.load_scene(path, strict=True)
+
+
+def test_instances_render_like_copies_and_refuse_bad_input(renderer):
+    quad = numpy.array([[-0.5, 0, -0.5], [0.5, 0, -0.5], [0.5, 0, 0.5], [-0.5, 0, 0.5]], dtype=numpy.float32)
+    tris = numpy.array([[0, 2, 1], [0, 3, 2]], dtype=numpy.uint32)  # facing +y
+    moves = [(-0.9, 0.3, 0.0), (0.9, 0.5, 0.2), (0.0, 1.3, -0.4)]
+    copied = small_scene()
+    green = copied.add_material(kd=(0.1, 0.6, 0.1))
+    for m in moves:
+        copied.add_mesh(quad + numpy.array(m, dtype=numpy.float32), tris, green)
+    instanced = small_scene()
+    green = instanced.add_material(kd=(0.1, 0.6, 0.1))
+    proto = instanced.add_prototype("quad")
+    instanced.add_prototype_mesh(proto, quad, tris, green)
+    for m in moves:
+        instanced.add_instance(proto, penumbra.Matrix3x4.translate(m))
+    assert instanced.prototype_count == 1 and instanced.instance_count == 3
+    assert instanced.triangle_count == copied.triangle_count
+    a = renderer.render(copied, width=40, height=30, spp=2)
+    b = renderer.render(instanced, width=40, height=30, spp=2)
+    # Translations only: object-space and world-space tests round alike here but for the last bits.
+    numpy.testing.assert_allclose(a, b, rtol=1e-3, atol=1e-4)
+    assert numpy.abs(a - renderer.render(small_scene(), width=40, height=30, spp=2)).max() > 0.05  # quads show
+
+    e = error_of(lambda: instanced.add_instance(5))
+    assert e.code == penumbra.ErrorCode.InvalidArgument and "prototype id 5" in str(e)
+    e = error_of(lambda: instanced.add_instance(proto, penumbra.Matrix3x4.scale((1, 0, 1))))
+    assert "singular" in str(e)
+    e = error_of(lambda: instanced.add_instance(proto, material=42))
+    assert "material id 42" in str(e)
+    e = error_of(lambda: instanced.add_prototype_mesh(proto, numpy.zeros((3, 3)), [[0, 1, 3]]))
+    assert e.code == penumbra.ErrorCode.InvalidArgument

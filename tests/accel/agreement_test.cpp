@@ -160,6 +160,18 @@ Scene makeRandomScene(uint32_t seed) {
     s.planes.push_back(Plane{{0.f, 0.f, -11.f}, normalize(Vec3f{0.2f, 0.1f, 1.f}), true, 0});
     s.meshes.push_back(makeIcosphere({1.f, 0.5f, -1.f}, 3.5f, 3));
     s.meshes.push_back(makeHeightField(16, -6.f, rng));
+    // Instances of a group (a small icosphere and a cube) and of a lone cube:
+    // rotated, non-uniformly scaled, some mirrored, one prototype overriding its material.
+    s.prototypes.push_back(Prototype{"group", {makeIcosphere({0.f, 0.f, 0.f}, 0.6f, 1),
+                                               makeTriangleCube({0.3f, -0.2f, -0.2f}, {0.9f, 0.4f, 0.4f})}});
+    s.prototypes.push_back(Prototype{"cube", {makeTriangleCube({-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f})}});
+    for (int i = 0; i < 30; ++i) {
+        Vec3f scale{rng.range(0.5f, 1.5f), rng.range(0.5f, 1.5f), rng.range(0.5f, 1.5f)};
+        if (i % 5 == 0) scale.x = -scale.x;
+        const Transform place = Transform::translate(rng.inBox(-10.f, 10.f)) *
+                                Transform::rotate(rng.range(0.f, 360.f), rng.direction()) * Transform::scale(scale);
+        s.instances.push_back(makeInstance(uint32_t(i % 2), place, i % 4 == 3 ? 0u : kNoMaterialOverride));
+    }
     s.finalize(quietLogger());
     return s;
 }
@@ -329,6 +341,7 @@ TEST(AcceleratorAgreementTest, EmbreeMatchesNaiveOnRandomScene) {
     const Scene scene = makeRandomScene(7);
     ASSERT_GE(scene.primitiveCount(), 2000u);
     ASSERT_EQ(scene.meshes.size(), 2u);
+    ASSERT_EQ(scene.instances.size(), 30u);
     auto naive = makeNaiveAccelerator(scene);
     auto embree = makeEmbreeAccelerator(scene);
     std::cout << "[agreement] scene: " << scene.primitiveCount() << " primitives (" << scene.triangleCount()

@@ -561,3 +561,87 @@ TEST(CApi, ErrorsAreKeptPerThread) {
 }
 
 }  // namespace
+
+namespace {
+
+// Instancing through C: the same image as the C++ API's instances, and errors that name the problem.
+TEST(CApi, InstancesMatchTheCppApiAndRefuseBadInput) {
+    Fixture f;
+    pnb_material m;
+    pnb_material_init(&m);
+    m.kd = pnb_color{0.6f, 0.3f, 0.2f};
+    uint32_t id = 0, other = 0;
+    ASSERT_EQ(pnb_scene_add_material(f.scene, &m, &id), PNB_OK);
+    m.kd = gray(0.9f);
+    ASSERT_EQ(pnb_scene_add_material(f.scene, &m, &other), PNB_OK);
+    const float pos[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    const uint32_t idx[] = {0, 1, 2, 0, 2, 3};
+    pnb_mesh_desc mesh;
+    pnb_mesh_desc_init(&mesh);
+    mesh.positions = pos;
+    mesh.vertex_count = 4;
+    mesh.indices = idx;
+    mesh.triangle_count = 2;
+    mesh.material = id;
+    uint32_t proto = 99;
+    ASSERT_EQ(pnb_scene_add_prototype(f.scene, "quad", &proto), PNB_OK);
+    EXPECT_EQ(proto, 0u);
+    ASSERT_EQ(pnb_scene_add_prototype_mesh(f.scene, proto, &mesh), PNB_OK) << lastError();
+    const float left[12] = {0.5f, 0, 0, -0.6f, 0, 0.5f, 0, 0, 0, 0, 0.5f, 0.5f};  // in front of the third
+    const float right[12] = {0, 0, 0.5f, 0.6f, 0, 0.5f, 0, 0, -0.5f, 0, 0, 0};  // turned 90 degrees about y
+    ASSERT_EQ(pnb_scene_add_instance(f.scene, proto, left, PNB_KEEP_MATERIALS), PNB_OK) << lastError();
+    ASSERT_EQ(pnb_scene_add_instance(f.scene, proto, right, other), PNB_OK) << lastError();
+    ASSERT_EQ(pnb_scene_add_instance(f.scene, proto, nullptr, PNB_KEEP_MATERIALS), PNB_OK) << lastError();
+    ASSERT_EQ(pnb_scene_add_point_light(f.scene, v3(0.5f, 0.5f, 3), gray(10.f)), PNB_OK);
+    EXPECT_EQ(pnb_scene_primitive_count(f.scene), 6u);
+
+    EXPECT_EQ(pnb_scene_add_prototype(f.scene, "x", nullptr), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(pnb_scene_add_prototype_mesh(f.scene, proto, nullptr), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(pnb_scene_add_instance(f.scene, 5, nullptr, PNB_KEEP_MATERIALS), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(lastError().find("prototype id 5 does not exist"), std::string::npos) << lastError();
+    const float flat[12] = {1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0};
+    EXPECT_EQ(pnb_scene_add_instance(f.scene, proto, flat, PNB_KEEP_MATERIALS), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(lastError().find("singular"), std::string::npos) << lastError();
+    EXPECT_EQ(pnb_scene_add_instance(f.scene, proto, nullptr, 9), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(lastError().find("material id 9"), std::string::npos) << lastError();
+
+    f.prepare();
+    ASSERT_EQ(pnb_framebuffer_create(&f.settings, &f.image), PNB_OK);
+    ASSERT_EQ(pnb_render(f.renderer, f.prepared, &f.camera, &f.settings, f.image, nullptr, nullptr), PNB_OK);
+
+    pnb::Scene s;
+    pnb::Material cm;
+    cm.kd = {0.6f, 0.3f, 0.2f};
+    pnb::MeshDesc cmesh;
+    cmesh.material = s.addMaterial(cm);
+    cm.kd = pnb::gray(0.9f);
+    const pnb::MaterialId cother = s.addMaterial(cm);
+    cmesh.positions = pos;
+    cmesh.vertexCount = 4;
+    cmesh.indices = idx;
+    cmesh.triangleCount = 2;
+    const pnb::PrototypeId p = s.addPrototype("quad");
+    s.addPrototypeMesh(p, cmesh);
+    pnb::Matrix3x4 l, r;
+    std::memcpy(l.m, left, sizeof left);
+    std::memcpy(r.m, right, sizeof right);
+    s.addInstance(p, l);
+    s.addInstance(p, r, cother);
+    s.addInstance(p, pnb::Matrix3x4{});
+    s.addPointLight({0.5f, 0.5f, 3}, pnb::gray(10.f));
+    pnb::RenderSettings st;
+    st.width = st.height = 33;
+    st.spp = 8;
+    st.seed = 3;
+    pnb::Camera cam;
+    cam.eye = {0, 0, 4};
+    cam.lookAt = {0, 0, 0};
+    const pnb::Renderer rr([](pnb::LogLevel, std::string_view) {});
+    const std::vector<float> c = f.read(f.image);
+    EXPECT_TRUE(sameBits(c, rr.render(rr.prepare(s), cam, st).rgba()));
+    float sum = 0.f;
+    for (float v : c) sum += v;
+    EXPECT_GT(sum, float(c.size()) * 0.26f);  // alpha alone is a quarter of the values; the quads are lit
+}
+
+}  // namespace

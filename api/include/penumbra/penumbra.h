@@ -251,6 +251,18 @@ PNB_API pnb_status pnb_scene_get_settings(const pnb_scene* scene, pnb_render_set
 /* Shapes plus triangles (0 for NULL). */
 PNB_API size_t pnb_scene_primitive_count(const pnb_scene* scene);
 
+/* Instancing: a prototype's meshes are stored once and drawn only through its instances (docs/embedding.md).
+   pnb_scene_add_prototype returns the new, empty prototype's id in *out_id. */
+PNB_API pnb_status pnb_scene_add_prototype(pnb_scene* scene, const char* name, uint32_t* out_id);
+/* Copies a mesh into a prototype (object space), checked as pnb_scene_add_mesh checks it. */
+PNB_API pnb_status pnb_scene_add_prototype_mesh(pnb_scene* scene, uint32_t prototype, const pnb_mesh_desc* mesh);
+/* Material value of pnb_scene_add_instance that keeps the prototype's own materials. */
+#define PNB_KEEP_MATERIALS 0xFFFFFFFFu
+/* world_from_object: 12 floats, a row-major 3x4 affine matrix (invertible); NULL = identity.
+   material: replaces every face's material, or PNB_KEEP_MATERIALS. */
+PNB_API pnb_status pnb_scene_add_instance(pnb_scene* scene, uint32_t prototype, const float* world_from_object,
+                                          uint32_t material);
+
 /* ------------------------------------------------------------ prepared scene */
 
 /* Validates the scene and builds its BVH and light tables (the scene is copied: it stays usable). */

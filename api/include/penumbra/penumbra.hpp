@@ -66,6 +66,9 @@ struct Matrix3x4 {
 /// Index of a material in its scene, as returned by Scene::addMaterial.
 using MaterialId = std::uint32_t;
 
+/// Index of a prototype in its scene, as returned by Scene::addPrototype.
+using PrototypeId = std::uint32_t;
+
 /// A triangle mesh given as arrays the host owns; Scene::addMesh copies them.
 struct MeshDesc {
     std::string name;
@@ -161,6 +164,23 @@ public:
     /// Shapes plus triangles.
     std::size_t primitiveCount() const;
     std::size_t triangleCount() const;
+
+    // Instancing: a prototype's meshes are stored once and drawn only through
+    // its instances, each an affine placement (docs/embedding.md). Instances
+    // of a prototype with an emissive material (or an emissive override) are
+    // expanded into ordinary meshes when prepared, so each copy is a light.
+
+    /// Adds an empty prototype (a named group of meshes) and returns its id.
+    PrototypeId addPrototype(const std::string& name);
+    /// Copies a mesh into a prototype, in the prototype's object space;
+    /// checked as addMesh checks it.
+    void addPrototypeMesh(PrototypeId prototype, const MeshDesc& mesh);
+    /// Places a prototype. worldFromObject must be finite and invertible;
+    /// `material`, when given, replaces the material of every face.
+    void addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject,
+                     std::optional<MaterialId> material = std::nullopt);
+    std::size_t prototypeCount() const;
+    std::size_t instanceCount() const;
 
 private:
     struct Impl;

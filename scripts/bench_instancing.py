@@ -91,6 +91,7 @@ def main():
         (work / f"{kind}.json").write_text(json.dumps(scene(kind == "instanced", a.dragons), indent=1))
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                             text=True).stdout.strip()
+    load_before = os.getloadavg()[0]
     log, stats = [], {"copied": [], "instanced": []}
     for r in range(a.rounds):
         for kind in ("copied", "instanced"):
@@ -112,7 +113,7 @@ def main():
     pixels = len(ca) // 3
     differing = sum(1 for p in range(pixels)
                     if max(diffs[3 * p:3 * p + 3]) > 1e-3 * max(1.0, max(abs(v) for v in ca[3 * p:3 * p + 3])))
-    image_line = (f"last renders compared: {differing} of {pixels} pixels differ by more than 1e-3 (relative), "
+    image_line = (f"last copied and instanced renders compared: {differing} of {pixels} pixels differ by more than 1e-3 (relative), "
                   f"largest difference {max(diffs):.3g}, mean {sum(diffs) / len(diffs):.3g}")
     log.append(image_line)
     shutil.rmtree(work)
@@ -130,7 +131,8 @@ def main():
 
 This section is not part of the run above: `python3 scripts/bench_instancing.py` wrote it (commit {commit},
 {a.rounds} rounds, copied and instanced runs alternating) and the figures below are computed from the raw
-output beside them. Machine: {machine()}.
+output beside them. Machine: {machine()}; load average {load_before:.1f} when it started (other
+builds share the machine: wall times exceed CPU times, memory is unaffected).
 
 The scenes are 20 placements (rotations about y, a 5 x 4 grid) of the Stanford dragon
 (`../shared/scenes/dragon_100k/dragon.obj`, 100,000 triangles): **copied** has 20 `mesh` entries, each
@@ -145,8 +147,9 @@ load = total - build - render; medians of the {a.rounds} runs.
 {rows[0]}
 {rows[1]}
 
-Peak memory, copied / instanced: {ratio:.1f}x. The {image_line} (instances are intersected in object
-space, so t, u and v round differently from the copies'; see [accelerators](accelerators.md#instances)).
+Peak memory, copied / instanced: {ratio:.1f}x. Images: the {image_line} (instances are intersected in
+object space, so t, u and v round differently from the copies'; see
+[accelerators](accelerators.md#instances)).
 
 ```
 {chr(10).join(log)}

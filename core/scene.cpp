@@ -183,10 +183,10 @@ SceneFixups Scene::finalize(const Logger& log) {
                  " instance(s) reaching beyond +-1.8e18, the largest coordinate the accelerators represent");
     fix.droppedShapes += beyond.shapes;
     fix.droppedTriangles += beyond.triangles;
-    fix.droppedInstances += beyond.instances;
     if (fix.droppedInstances)
-        log.warn("dropped " + std::to_string(fix.droppedInstances - beyond.instances) +
+        log.warn("dropped " + std::to_string(fix.droppedInstances) +
                  " instance(s) with an unknown or empty prototype or a non-finite or singular transform");
+    fix.droppedInstances += beyond.instances;
     if (badIds) log.warn(std::to_string(badIds) + " material reference(s) out of range; using material 0");
     return fix;
 }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "accel/accelerator.h"
@@ -210,12 +211,17 @@ TEST(InstanceFinalize, DropsInstancesNoAcceleratorCanPlace) {
     Instance nan = makeInstance(0, Transform());
     nan.worldFromObject = Transform::translate({std::nanf(""), 0, 0});
     s.instances.push_back(nan);
-    int warnings = 0;
-    const SceneFixups fix = s.finalize(Logger([&](LogLevel l, std::string_view) { warnings += l == LogLevel::Warning; }));
+    std::vector<std::string> warnings;
+    const SceneFixups fix = s.finalize(Logger([&](LogLevel l, std::string_view m) {
+        if (l == LogLevel::Warning) warnings.emplace_back(m);
+    }));
     EXPECT_EQ(fix.droppedInstances, 5u);
     ASSERT_EQ(s.instances.size(), 1u);
     EXPECT_EQ(s.instances[0].prototype, 0u);
-    EXPECT_EQ(warnings, 2);  // the bad ones, and the one beyond the range
+    ASSERT_EQ(warnings.size(), 2u);  // the bad ones, and the one beyond the range
+    EXPECT_NE(warnings[0].find("dropped 1 instance(s) reaching beyond"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[1].find("dropped 4 instance(s) with an unknown or empty prototype"), std::string::npos)
+        << warnings[1];
     EXPECT_EQ(s.finalize(quietLogger()).droppedInstances, 0u);  // idempotent
 }
 

@@ -14,6 +14,7 @@ namespace penumbra {
 namespace {
 
 namespace fs = std::filesystem;
+using test::assetPath;
 using test::sharedScenePath;
 using test::tempDir;
 using test::writeFile;
@@ -120,6 +121,21 @@ TEST(JsonInstances, ErrorsNameTheJsonPath) {
     expectError(withPrototypes(R"({"tri": 1})", "[]"), ErrorCode::ParseError, {"/prototypes"});
     expectError(R"({"shapes": [{"type": "instance", "prototype": "x"}]})", ErrorCode::InvalidScene,
                 {"/shapes/0/prototype", "no \"prototypes\""});
+}
+
+TEST(JsonInstances, TheExampleSceneExpandsItsLanternsIntoLights) {
+    LoadedScene ls = loadJsonScene(assetPath("scenes/instancing.json"), LoadOptions{}, Logger());
+    Scene& s = ls.scene;
+    ASSERT_EQ(s.prototypes.size(), 2u);
+    EXPECT_EQ(s.prototypes[0].meshes.size(), 2u);  // trunk and crown
+    EXPECT_EQ(s.instances.size(), 11u);
+    EXPECT_TRUE(s.meshes.empty());
+    s.finalize(Logger());
+    EXPECT_EQ(s.instances.size(), 9u);  // the trees
+    ASSERT_EQ(s.meshes.size(), 2u);     // the lanterns, placed
+    for (const TriangleMesh& m : s.meshes) EXPECT_TRUE(s.materials[m.material].isEmissive());
+    EXPECT_EQ(s.meshes[0].positions[0], (Vec3f{-1.5f, 0.2f, 2.f}));
+    EXPECT_EQ(s.triangleCount(), 9u * 14u + 2u * 2u);
 }
 
 // Issue 17's case: twenty dragons keep one dragon's vertices (the memory

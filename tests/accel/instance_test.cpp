@@ -199,6 +199,22 @@ TEST_P(InstanceHits, BatchedQueriesSeeInstances) {
 
 PENUMBRA_FOR_BOTH_ACCELERATORS(InstanceHits);
 
+// What the texture filter measures a hit triangle on (shading/integrator.cpp).
+TEST(InstanceFinalize, MeshOfNamesThePrototypesMeshAndThePlacement) {
+    Scene s;
+    s.meshes.push_back(square());
+    addPrototype(s, {square(0.f), square(1.f)}, "pair");
+    s.instances.push_back(makeInstance(0, Transform::translate({0, 0, 3})));
+    s.spheres.push_back(Sphere{{0, 0, 9}, 1.f, 0});
+    s.finalize(quietLogger());
+    Transform place = Transform::scale({2, 2, 2});
+    EXPECT_EQ(s.meshOf(PrimRef{ShapeKind::Mesh, 0, 1}, &place), &s.meshes[0]);
+    EXPECT_TRUE(place.isIdentity());
+    EXPECT_EQ(s.meshOf(PrimRef{ShapeKind::Instance, 0, 1, 1}, &place), &s.prototypes[0].meshes[1]);
+    EXPECT_EQ(place.applyPoint({0, 0, 1}), (Vec3f{0, 0, 4}));
+    EXPECT_EQ(s.meshOf(PrimRef{ShapeKind::Sphere, 0, 0}, &place), nullptr);
+}
+
 TEST(InstanceFinalize, DropsInstancesNoAcceleratorCanPlace) {
     Scene s;
     addPrototype(s, {square()});

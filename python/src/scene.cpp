@@ -21,7 +21,7 @@ std::size_t rowsOf(const py::array& a, py::ssize_t cols, const char* what) {
     if (a.ndim() == 1 && a.shape(0) % cols == 0) return std::size_t(a.shape(0) / cols);
     std::string shape;
     for (py::ssize_t i = 0; i < a.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(a.shape(i));
-    invalid(std::string("add_mesh: ") + what + " must have shape (n, " + std::to_string(cols) + ") or (n*" +
+    invalid(std::string(what) + " must have shape (n, " + std::to_string(cols) + ") or (n*" +
             std::to_string(cols) + ",), got (" + shape + ")");
 }
 
@@ -29,7 +29,7 @@ FloatArray floatsFrom(const py::object& obj, const char* what) {
     FloatArray a = FloatArray::ensure(obj);
     if (!a) {
         PyErr_Clear();
-        throw py::type_error(std::string("add_mesh: ") + what + " must be an array of numbers");
+        throw py::type_error(std::string(what) + " must be an array of numbers");
     }
     return a;
 }
@@ -39,11 +39,11 @@ IndexArray indicesFrom(const py::object& obj, const char* what) {
     py::array raw = py::array::ensure(obj);
     if (!raw) {
         PyErr_Clear();
-        throw py::type_error(std::string("add_mesh: ") + what + " must be an array of integers");
+        throw py::type_error(std::string(what) + " must be an array of integers");
     }
     const char kind = raw.dtype().kind();
     if (raw.size() > 0 && kind != 'i' && kind != 'u')
-        throw py::type_error(std::string("add_mesh: ") + what + " must be an array of integers, got dtype " +
+        throw py::type_error(std::string(what) + " must be an array of integers, got dtype " +
                              std::string(py::str(raw.dtype())));
     if (raw.size() > 0 && (kind == 'i' || raw.dtype().itemsize() > 4)) {
         using Wide = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
@@ -52,14 +52,14 @@ IndexArray indicesFrom(const py::object& obj, const char* what) {
             const std::int64_t* p = wide.data();
             for (py::ssize_t i = 0, n = wide.size(); i < n; ++i)
                 if (p[i] < 0 || p[i] > std::int64_t(std::numeric_limits<std::uint32_t>::max()))
-                    invalid(std::string("add_mesh: ") + what + "[" + std::to_string(i) + "] = " + std::to_string(p[i]) +
+                    invalid(std::string(what) + "[" + std::to_string(i) + "] = " + std::to_string(p[i]) +
                             " is not a valid index");
         } else {
             const auto u = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(raw);
             const std::uint64_t* p = u.data();
             for (py::ssize_t i = 0, n = u.size(); i < n; ++i)
                 if (p[i] > std::numeric_limits<std::uint32_t>::max())
-                    invalid(std::string("add_mesh: ") + what + "[" + std::to_string(i) + "] = " + std::to_string(p[i]) +
+                    invalid(std::string(what) + "[" + std::to_string(i) + "] = " + std::to_string(p[i]) +
                             " is not a valid index");
         }
     }
@@ -71,36 +71,39 @@ IndexArray indicesFrom(const py::object& obj, const char* what) {
 template <class Add>
 void withMeshDesc(const py::object& positions, const py::object& indices, pnb::MaterialId material,
                   const py::object& normals, const py::object& uvs, const py::object& faceMaterials,
-                  const std::string& name, Add add) {
-    const FloatArray pos = floatsFrom(positions, "positions");
-    const IndexArray idx = indicesFrom(indices, "indices");
+                  const std::string& name, const std::string& fn, Add add) {
+    // Error messages name the Python method and the argument.
+    const std::string P = fn + ": positions", I = fn + ": indices", N = fn + ": normals", U = fn + ": uvs",
+                      F = fn + ": face_materials";
+    const FloatArray pos = floatsFrom(positions, P.c_str());
+    const IndexArray idx = indicesFrom(indices, I.c_str());
     pnb::MeshDesc d;
     d.name = name;
-    d.vertexCount = rowsOf(pos, 3, "positions");
+    d.vertexCount = rowsOf(pos, 3, P.c_str());
     d.positions = pos.data();
-    d.triangleCount = rowsOf(idx, 3, "indices");
+    d.triangleCount = rowsOf(idx, 3, I.c_str());
     d.indices = idx.data();
     d.material = material;
     FloatArray nrm, uv;
     IndexArray fm;
     if (!normals.is_none()) {
-        nrm = floatsFrom(normals, "normals");
-        if (rowsOf(nrm, 3, "normals") != d.vertexCount)
-            invalid("add_mesh: normals has " + std::to_string(rowsOf(nrm, 3, "normals")) + " rows, positions " +
+        nrm = floatsFrom(normals, N.c_str());
+        if (rowsOf(nrm, 3, N.c_str()) != d.vertexCount)
+            invalid(N + " has " + std::to_string(rowsOf(nrm, 3, N.c_str())) + " rows, positions " +
                     std::to_string(d.vertexCount));
         d.normals = nrm.data();
     }
     if (!uvs.is_none()) {
-        uv = floatsFrom(uvs, "uvs");
-        if (rowsOf(uv, 2, "uvs") != d.vertexCount)
-            invalid("add_mesh: uvs has " + std::to_string(rowsOf(uv, 2, "uvs")) + " rows, positions " +
+        uv = floatsFrom(uvs, U.c_str());
+        if (rowsOf(uv, 2, U.c_str()) != d.vertexCount)
+            invalid(U + " has " + std::to_string(rowsOf(uv, 2, U.c_str())) + " rows, positions " +
                     std::to_string(d.vertexCount));
         d.uvs = uv.data();
     }
     if (!faceMaterials.is_none()) {
-        fm = indicesFrom(faceMaterials, "face_materials");
+        fm = indicesFrom(faceMaterials, F.c_str());
         if (std::size_t(fm.size()) != d.triangleCount)
-            invalid("add_mesh: face_materials has " + std::to_string(fm.size()) + " entries for " +
+            invalid(F + " has " + std::to_string(fm.size()) + " entries for " +
                     std::to_string(d.triangleCount) + " triangles");
         d.faceMaterials = fm.data();
     }
@@ -110,14 +113,14 @@ void withMeshDesc(const py::object& positions, const py::object& indices, pnb::M
 void addMesh(pnb::Scene& scene, const py::object& positions, const py::object& indices, pnb::MaterialId material,
              const py::object& normals, const py::object& uvs, const py::object& faceMaterials,
              const std::string& name) {
-    withMeshDesc(positions, indices, material, normals, uvs, faceMaterials, name,
+    withMeshDesc(positions, indices, material, normals, uvs, faceMaterials, name, "add_mesh",
                  [&](const pnb::MeshDesc& d) { scene.addMesh(d); });
 }
 
 void addPrototypeMesh(pnb::Scene& scene, pnb::PrototypeId prototype, const py::object& positions,
                       const py::object& indices, pnb::MaterialId material, const py::object& normals,
                       const py::object& uvs, const py::object& faceMaterials, const std::string& name) {
-    withMeshDesc(positions, indices, material, normals, uvs, faceMaterials, name,
+    withMeshDesc(positions, indices, material, normals, uvs, faceMaterials, name, "add_prototype_mesh",
                  [&](const pnb::MeshDesc& d) { scene.addPrototypeMesh(prototype, d); });
 }
 

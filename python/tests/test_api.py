@@ -192,3 +192,5 @@ def test_instances_render_like_copies_and_refuse_bad_input(renderer):
     assert "material id 42" in str(e)
     e = error_of(lambda: instanced.add_prototype_mesh(proto, numpy.zeros((3, 3)), [[0, 1, 3]]))
     assert e.code == penumbra.ErrorCode.InvalidArgument
+    e = error_of(lambda: instanced.add_prototype_mesh(proto, numpy.zeros((4, 2)), [[0, 1, 2]]))
+    assert "add_prototype_mesh: positions" in str(e)

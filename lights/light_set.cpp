@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <map>
 
+#include "core/error.h"
 #include "lights/area_light.h"
 #include "lights/delta_lights.h"
+#include "lights/environment_light.h"
 
 namespace penumbra {
 
-LightSet::LightSet(const Scene& scene) {
+LightSet::LightSet(const Scene& scene, RgbImage environmentImage) {
     const auto emissive = [&](uint32_t mat) { return scene.materials[mat].isEmissive(); };
     for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
         if (emissive(scene.rectangles[i].material)) {
@@ -51,6 +53,19 @@ LightSet::LightSet(const Scene& scene) {
     const float radius = b.empty() ? 1.f : 0.5f * length(b.diagonal());
     for (const auto& p : scene.pointLights) lights_.push_back(std::make_unique<PointLightSource>(p));
     for (const auto& d : scene.directionalLights) lights_.push_back(std::make_unique<DirectionalLightSource>(d, radius));
+    if (scene.environment) {
+        const EnvironmentDesc& e = *scene.environment;
+        std::unique_ptr<EnvironmentLight> env;
+        if (e.image.empty()) {
+            env = std::make_unique<EnvironmentLight>(e.color * e.scale, radius);
+        } else {
+            if (environmentImage.pixels.empty())
+                throw Error(ErrorCode::InvalidArgument, e.image + ": environment image was not decoded");
+            env = std::make_unique<EnvironmentLight>(std::move(environmentImage), e.scale, e.rotateDegrees, radius);
+        }
+        environment_ = env.get();
+        lights_.push_back(std::move(env));
+    }
 
     double acc = 0.0;
     for (const auto& l : lights_) {
@@ -65,6 +80,8 @@ LightSet::LightSet(const Scene& scene) {
     }
     if (!powerCdf_.empty()) powerCdf_.back() = 1.f;
 }
+
+LightSet::~LightSet() = default;
 
 LightSet::Pick LightSet::pickByPower(float u) const {
     size_t i = std::upper_bound(powerCdf_.begin(), powerCdf_.end(), u) - powerCdf_.begin();

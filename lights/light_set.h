@@ -5,15 +5,22 @@
 #include <memory>
 #include <vector>
 
+#include "core/rgb_image.h"
 #include "core/scene.h"
 #include "lights/light.h"
 
 namespace penumbra {
 
+class EnvironmentLight;
+
 class LightSet {
 public:
     /// Builds the lights of a finalized scene (which must outlive the set).
-    explicit LightSet(const Scene& scene);
+    /// When scene.environment names an image, `environmentImage` holds its
+    /// decoded pixels (the caller reads the file: PreparedScene); an environment
+    /// with an image but no pixels here throws Error(InvalidArgument).
+    explicit LightSet(const Scene& scene, RgbImage environmentImage = {});
+    ~LightSet();
 
     size_t size() const { return lights_.size(); }
     const Light& operator[](size_t i) const { return *lights_[i]; }
@@ -28,11 +35,16 @@ public:
     size_t areaLightCount() const { return areaLights_; }
     float totalEmitterArea() const { return totalArea_; }
 
+    /// The scene's environment light (also one of the lights, the last one);
+    /// nullptr when it has none: escaped rays then see Scene::background.
+    const EnvironmentLight* environment() const { return environment_; }
+
 private:
     std::vector<std::unique_ptr<Light>> lights_;
     std::vector<float> powerCdf_;  // normalised, last = 1
     size_t areaLights_ = 0;
     float totalArea_ = 0.f;
+    const EnvironmentLight* environment_ = nullptr;
 };
 
 }  // namespace penumbra

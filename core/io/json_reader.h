@@ -97,6 +97,9 @@ private:
     /// An area light is an emitting shape: black, non-reflective, ke = radiance.
     uint32_t lightMaterial(const Json& j, const std::string& ptr, Scene& scene) const;
 
+    // ---- the environment light (json_environment.cpp)
+    void readEnvironment(const Json& j, const std::string& ptr, Scene& scene) const;
+
     /// Refuses a shape whose bounds reach beyond what the accelerators represent.
     void checkRange(const Bounds3f& b, const std::string& ptr) const;
 

@@ -229,3 +229,18 @@ TEST(LightSet, FindsTheEnvironmentAsItsLastLight) {
     ASSERT_NE(withImage.environment(), nullptr);
     EXPECT_TRUE(withImage.environment()->hasImage());
 }
+
+TEST(LightSet, PowerSelectionWeighsTheEnvironmentLikeADirectionalLight) {
+    // Same irradiance on a surface facing them (pi * L = E), same power, same chance.
+    Scene s;
+    s.materials.push_back(Material{});
+    s.spheres.push_back(Sphere{Vec3f{0, 0, 0}, 1.f, 0});
+    s.directionalLights.push_back(DirectionalLight{Vec3f{0, -1, 0}, Rgb(kPi)});
+    EnvironmentDesc env;
+    env.color = Rgb(1.f);
+    s.environment = env;
+    LightSet lights(s);
+    ASSERT_EQ(lights.size(), 2u);
+    EXPECT_NEAR(lights.pickByPower(0.25f).probability, 0.5f, 1e-5f);
+    EXPECT_EQ(lights.pickByPower(0.75f).index, 1u);
+}

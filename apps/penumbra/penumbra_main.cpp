@@ -90,6 +90,7 @@ void writeStatsJson(const fs::path& path, const Options& o, const pnb::RenderSet
     j["nonfinite_samples_dropped"] = st.nonFiniteSamples;
     j["mrays_per_second"] = st.mraysPerSecond;
     j["peak_memory_mib"] = peakMemoryMiB();
+    j["default_light"] = prepared.defaultLightAdded();  // the scene had no light: a white environment lit it
     writeStatistics(path, j.dump(2) + "\n");
 }
 

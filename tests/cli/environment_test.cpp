@@ -7,6 +7,8 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 
 #include "core/film.h"
 #include "core/image_io.h"
@@ -62,6 +64,11 @@ fs::path writeSkyImage(const fs::path& path, Rgb sky, Rgb ground) {
     film.setSampleCount(1);
     writeImage(path, film, ImageWriteOptions{});
     return path;
+}
+
+std::string readText(const fs::path& p) {
+    std::ifstream f(p);
+    return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
 }  // namespace
@@ -166,8 +173,10 @@ TEST(Environment, AnUnlitSceneGetsTheDefaultLightAndOneWarning) {
     const fs::path dir = test::tempDir();
     const fs::path scene = floorScene(dir, R"({"kd": 0.5})");
     const fs::path out = dir / "img.exr";
-    RunResult r = runPenumbra(scene.string() + " -q -o " + out.string());
+    RunResult r = runPenumbra(scene.string() + " -q --stats-json " + (dir / "stats.json").string() + " -o " +
+                              out.string());
     ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(readText(dir / "stats.json").find("\"default_light\": true"), std::string::npos);
     const std::string warning = "the scene has no light";
     const size_t at = r.output.find(warning);
     ASSERT_NE(at, std::string::npos) << r.output;

@@ -128,3 +128,15 @@ TEST(PhongSampling, LobeMomentsPinTheExponent) {
         EXPECT_NEAR(m2 / N, (e + 1.0) / (e + 3.0), 1e-4) << "exponent " << e;
     }
 }
+
+#include "shading/mis.h"
+
+TEST(Mis, PowerHeuristicWeightsSumToOne) {
+    EXPECT_FLOAT_EQ(powerHeuristic(1, 2.f, 1, 2.f), 0.5f);
+    EXPECT_FLOAT_EQ(powerHeuristic(1, 3.f, 1, 1.f), 0.9f);
+    EXPECT_FLOAT_EQ(powerHeuristic(1, 3.f, 1, 1.f) + powerHeuristic(1, 1.f, 1, 3.f), 1.f);
+    EXPECT_FLOAT_EQ(powerHeuristic(4, 1.f, 1, 2.f), 0.8f);  // (4*1)^2 / ((4*1)^2 + (1*2)^2)
+    EXPECT_EQ(powerHeuristic(1, 0.f, 1, 1.f), 0.f);
+    EXPECT_EQ(powerHeuristic(1, 1.f, 1, 0.f), 1.f);
+    EXPECT_NEAR(powerHeuristic(1, 1e30f, 1, 1e30f), 0.5f, 1e-6f);  // no overflow
+}

@@ -41,8 +41,12 @@ public:
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     /// Solid-angle density with which sample() returns unit direction wi, from
     /// any point: 1/(4 pi) for a constant colour, p(u,v) / (2 pi^2 sin t) for
-    /// an image. (The light helper's Light::pdf virtual is adapted to at the merge.)
+    /// an image. This is the pdf to weigh an escaped ray against (MIS).
     float pdf(const Vec3f& wi) const;
+    /// Light::pdf asks about a point where a ray from p meets the light; no
+    /// point lies on the environment (a ray that hits something does not see
+    /// it), so 0. Escaped rays use pdf(wi).
+    float pdf(const Vec3f&, const Hit&) const override { return 0.f; }
     /// pi^2 R^2 times the mean radiance over the sphere (R: scene radius): the
     /// power of a directional light that gives a surface facing it the
     /// irradiance pi * L the environment gives an unoccluded surface, matching

@@ -51,9 +51,15 @@ pnb::Vec3 parseVec3(const std::string& text, const std::string& option) {
 
 void parseEnvironment(const std::string& text, Options& o) {
     if (text.find(',') != std::string::npos) {
-        const pnb::Vec3 c = parseVec3(text, "--env");
-        if (c.x < 0.f || c.y < 0.f || c.z < 0.f)
-            throw Error(ErrorCode::InvalidArgument, "--env: radiance must be >= 0, got '" + text + "'");
+        pnb::Vec3 c;
+        try {
+            c = parseVec3(text, "--env");
+        } catch (const Error&) {
+            throw Error(ErrorCode::InvalidArgument,
+                        "--env: expected r,g,b (three finite numbers) or an image file, got '" + text + "'");
+        }
+        if (!(c.x >= 0.f && c.y >= 0.f && c.z >= 0.f) || !std::isfinite(c.x + c.y + c.z))
+            throw Error(ErrorCode::InvalidArgument, "--env: radiance must be finite and >= 0, got '" + text + "'");
         o.envColor = pnb::Color{c.x, c.y, c.z};
         o.envImage.reset();
         return;

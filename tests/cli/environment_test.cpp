@@ -161,7 +161,7 @@ TEST(Environment, BadEnvValuesAreUsageErrors) {
     const fs::path dir = test::tempDir();
     const fs::path scene = floorScene(dir, R"({"kd": 0.5})");
     const std::string out = " -o " + (dir / "img.exr").string();
-    for (const char* bad : {"--env 1,2", "--env 1,x,3", "--env -1,0,0", "--env 1,nan,1", "--env sky.txt", "--env ''",
+    for (const char* bad : {"--env 1,2", "--env 1,x,3", "--env -1,0,0", "--env 1,nan,1", "--env 1e39,1,1", "--env sky.txt", "--env ''",
                             "--env-rotate 30", "--env 1,1,1 --env-rotate 30", "--env sky.exr --env-rotate x"}) {
         const RunResult r = runPenumbra(scene.string() + " -q " + bad + out);
         EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;

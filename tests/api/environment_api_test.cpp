@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/film.h"
+#include "core/image_io.h"
 #include "support/test_support.h"
 
 namespace {
@@ -153,4 +155,40 @@ TEST(CApiEnvironment, SetEnvironmentAndSeeTheDefaultLight) {
     EXPECT_NE(std::string(pnb_scene_last_error(s)).find("sky.exr"), std::string::npos);
     pnb_scene_destroy(s);
     pnb_renderer_destroy(r);
+}
+
+TEST(ApiEnvironment, JsonImageIsReadFromTheFileOpenedAtLoadAndKeptInsideTheRoots) {
+    namespace fs = std::filesystem;
+    const fs::path dir = penumbra::test::tempDir();
+    // A uniform lat-long image of radiance 2.
+    penumbra::Film film(8, 4, false);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) film.addRadiance(film.index(x, y), penumbra::Rgb(2.f));
+    film.setSampleCount(1);
+    fs::create_directories(dir / "scene");
+    penumbra::writeImage(dir / "sky.exr", film, penumbra::ImageWriteOptions{});
+    penumbra::writeImage(dir / "scene" / "sky.exr", film, penumbra::ImageWriteOptions{});
+    penumbra::test::writeFile(dir / "scene" / "floor.json", R"({
+  "materials": {"grey": {"kd": 0.5}},
+  "shapes": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "grey"}],
+  "environment": {"image": "sky.exr", "rotate": 45}
+})");
+    pnb::Renderer r([](pnb::LogLevel, std::string_view) {}, pnb::LogLevel::Error);
+    pnb::Scene s = r.loadScene((dir / "scene" / "floor.json").string());
+    EXPECT_TRUE(s.hasEnvironment());
+    // Swapped for garbage after loading: the open file is what is decoded, never the path again.
+    fs::remove(dir / "scene" / "sky.exr");
+    penumbra::test::writeFile(dir / "scene" / "sky.exr", "garbage");
+    const pnb::PreparedScene p = r.prepare(s);
+    EXPECT_NEAR(meanGreen(r.render(p, topCamera(), smallSettings())), 0.5 * 2.0, 0.02);
+
+    // Like textures, an environment image outside the scene's folder is refused by default.
+    penumbra::test::writeFile(dir / "scene" / "outside.json", R"({"environment": {"image": "../sky.exr"}})");
+    try {
+        (void)r.loadScene((dir / "scene" / "outside.json").string());
+        FAIL() << "no error";
+    } catch (const pnb::Error& e) {
+        EXPECT_EQ(e.code(), pnb::ErrorCode::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find("/environment/image"), std::string::npos) << e.what();
+    }
 }

@@ -150,6 +150,13 @@ TEST(Environment, UnreadableImagesAreErrorsNamingTheFile) {
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("bad.exr: cannot read image"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out));
+    // The budget is checked against the header, before any pixel is decoded.
+    const fs::path huge = test::writeFile(dir / "huge.pfm", "PF\n100000 100000\n-1.0\n0000000000000000");
+    r = runPenumbra(scene.string() + " -q --env " + huge.string() + " -o " + out.string());
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("huge.pfm: cannot read image (its header says 100000x100000 pixels, more than the 1024 MiB"),
+              std::string::npos)
+        << r.output;
     const fs::path json = test::writeFile(dir / "env.json", R"({"environment": {"image": "nowhere.hdr"}})");
     r = runPenumbra(json.string() + " -q -o " + out.string());
     EXPECT_EQ(r.exitCode, 1) << r.output;

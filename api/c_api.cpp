@@ -214,6 +214,35 @@ pnb_status pnb_scene_set_background(pnb_scene* scene, pnb_color background) {
     });
 }
 
+pnb_status pnb_scene_set_environment(pnb_scene* scene, pnb_color radiance, float scale) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_set_environment", [&] {
+        need(scene, "scene");
+        scene->scene.setEnvironment(in(radiance), scale);
+    });
+}
+
+pnb_status pnb_scene_set_environment_image(pnb_scene* scene, const char* path, float rotate_degrees, float scale) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_set_environment_image", [&] {
+        need(scene, "scene");
+        need(path, "path");
+        scene->scene.setEnvironmentImage(path, rotate_degrees, scale);
+    });
+}
+
+pnb_status pnb_scene_clear_environment(pnb_scene* scene) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_clear_environment", [&] {
+        need(scene, "scene");
+        scene->scene.clearEnvironment();
+    });
+}
+
+pnb_status pnb_scene_set_default_light(pnb_scene* scene, int enabled) {
+    return guard(scene ? &scene->error : nullptr, "pnb_scene_set_default_light", [&] {
+        need(scene, "scene");
+        scene->scene.setDefaultLight(enabled != 0);
+    });
+}
+
 pnb_status pnb_scene_set_camera(pnb_scene* scene, const pnb_camera* camera) {
     return guard(scene ? &scene->error : nullptr, "pnb_scene_set_camera", [&] {
         need(scene, "scene");
@@ -312,7 +341,8 @@ pnb_status pnb_prepared_scene_get_info(const pnb_prepared_scene* prepared, pnb_p
         need(out, "out");
         const pnb::PreparedScene& p = prepared->prepared;
         *out = pnb_prepared_info{p.primitiveCount(),   p.triangleCount(), p.lightCount(),
-                                 p.droppedTriangles(), p.droppedShapes(), p.buildSeconds()};
+                                 p.droppedTriangles(), p.droppedShapes(), p.buildSeconds(),
+                                 p.defaultLightAdded() ? 1 : 0};
     });
 }
 

@@ -72,6 +72,10 @@ PNB_SAME_TYPE(crop_x0, crop->x0);
 #undef PNB_SAME_TYPE
 static_assert(sizeof(pnb_render_settings) == 72, "pnb_render_settings changed: update in()/out() and RenderSettings");
 static_assert(sizeof(pnb::RenderSettings) == 72, "RenderSettings changed: update pnb_render_settings and in()/out()");
+// pnb_prepared_info grows at its end only, so the existing fields keep their offsets.
+static_assert(offsetof(pnb_prepared_info, default_light_added) > offsetof(pnb_prepared_info, build_seconds) &&
+                  std::is_same_v<decltype(pnb_prepared_info::default_light_added), int>,
+              "pnb_prepared_info: new fields go at the end");
 
 namespace pnb::c_api {
 

@@ -42,6 +42,7 @@ Camera PreparedScene::defaultCamera(float aspect, float vfovDegrees) const {
 }
 
 RenderSettings PreparedScene::settings() const { return settingsFrom(requirePrepared(*this).settings); }
+bool PreparedScene::defaultLightAdded() const { return requirePrepared(*this).prepared.defaultLightAdded(); }
 
 // ---------------------------------------------------------------- Renderer
 

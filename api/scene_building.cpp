@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/io/input_file.h"
+
 namespace pnb {
 
 namespace {
@@ -306,5 +308,35 @@ void Scene::addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject,
 
 std::size_t Scene::prototypeCount() const { return impl_->scene.prototypes.size(); }
 std::size_t Scene::instanceCount() const { return impl_->scene.instances.size(); }
+void Scene::setEnvironment(const Color& radiance, float scale) {
+    guarded([&] {
+        requireColor(radiance, "environment radiance");
+        require(std::isfinite(scale) && scale >= 0.f, "environment scale must be finite and >= 0");
+        pn::EnvironmentDesc env;
+        env.color = in(radiance);
+        env.scale = scale;
+        impl_->scene.environment = std::move(env);
+    });
+}
+
+void Scene::setEnvironmentImage(const std::string& path, float rotateDegrees, float scale) {
+    guarded([&] {
+        require(!path.empty(), "environment image path is empty");
+        require(std::isfinite(rotateDegrees), path + ": environment rotation must be finite");
+        require(std::isfinite(scale) && scale >= 0.f, path + ": environment scale must be finite and >= 0");
+        pn::EnvironmentDesc env;
+        // Opened now, once: prepare() decodes this descriptor, never the path again.
+        env.imageFile = pn::openInputFile(path, pn::LoadOptions{}, ErrorCode::IoError);
+        env.image = path;
+        env.rotateDegrees = rotateDegrees;
+        env.scale = scale;
+        impl_->scene.environment = std::move(env);
+    });
+}
+
+void Scene::clearEnvironment() { impl_->scene.environment.reset(); }
+bool Scene::hasEnvironment() const { return impl_->scene.environment.has_value(); }
+void Scene::setDefaultLight(bool enabled) { impl_->scene.defaultLight = enabled; }
+bool Scene::defaultLight() const { return impl_->scene.defaultLight; }
 
 }  // namespace pnb

@@ -191,6 +191,21 @@ SceneFixups Scene::finalize(const Logger& log) {
     return fix;
 }
 
+bool Scene::hasLight() const {
+    if (!pointLights.empty() || !directionalLights.empty() || environment || !ambient.isBlack() || !background.isBlack())
+        return true;
+    const auto emits = [&](uint32_t m) { return m < materials.size() && materials[m].isEmissive(); };
+    if (std::none_of(materials.begin(), materials.end(), [](const Material& m) { return m.isEmissive(); })) return false;
+    const auto anyShape = [&](const auto& shapes) {
+        return std::any_of(shapes.begin(), shapes.end(), [&](const auto& s) { return emits(s.material); });
+    };
+    if (anyShape(spheres) || anyShape(planes) || anyShape(boxes) || anyShape(rectangles) || anyShape(disks)) return true;
+    for (const TriangleMesh& mesh : meshes)
+        for (size_t t = 0; t < mesh.triangleCount(); ++t)
+            if (emits(mesh.materialOf(t))) return true;
+    return false;
+}
+
 Bounds3f Scene::bounds() const {
     Bounds3f b;
     for (const auto& s : spheres) b.extend(penumbra::bounds(s));

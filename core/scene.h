@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,19 @@ struct DirectionalLight {
     Rgb irradiance{1.f};
 };
 
+/// Light arriving from infinitely far away in every direction: a constant
+/// colour, or a lat-long (equirectangular) image (docs/rendering.md, "Environment
+/// light", for the mapping: +y is up, u = 0.5 looks along -z, rotation about +y).
+struct EnvironmentDesc {
+    Rgb color{1.f};        // radiance when there is no image
+    std::string image;     // lat-long image (EXR, HDR, PFM, PNG, ...); empty: `color`
+    /// The loader's open image file (read this, never reopen the path); null
+    /// for images named in code: opened by path, once, when the scene is prepared.
+    std::shared_ptr<const InputFile> imageFile;
+    float rotateDegrees = 0.f;  // about +y, counter-clockwise seen from above
+    float scale = 1.f;          // multiplies the image or the colour
+};
+
 /// Counts of what finalize() repaired or dropped.
 struct SceneFixups {
     size_t droppedTriangles = 0;  // bad indices, non-finite or degenerate (zero-area) vertices
@@ -60,6 +74,14 @@ public:
     Rgb background{0.f};                // radiance of rays that leave the scene
     std::vector<Prototype> prototypes;  // meshes drawn only through instances (core/instance.h)
     std::vector<Instance> instances;
+    /// Environment light: lights the scene and is what rays that leave it see
+    /// (replacing `background`). Empty: none.
+    std::optional<EnvironmentDesc> environment;
+    /// When the scene has no light at all (no emitter, point or directional
+    /// light, ambient light, environment or background), preparing it adds
+    /// a uniform white environment of radiance 1 and warns, so that it is not
+    /// silently black. False: render such a scene black.
+    bool defaultLight = true;
 
     /// Validates and repairs the scene so that every accelerator sees exactly
     /// the same primitives: drops triangles with out-of-range indices,
@@ -72,6 +94,11 @@ public:
     /// of emissive prototypes (or with an emissive material override) are
     /// expanded into world-space meshes (core/instance.h). Idempotent.
     SceneFixups finalize(const Logger& log);
+
+    /// Whether anything lights the scene: geometry with an emissive material,
+    /// a point or directional light, an environment, or a non-black ambient
+    /// light or background. (The default light of Scene::defaultLight.)
+    bool hasLight() const;
 
     /// Bounds of all finite geometry (planes excluded).
     Bounds3f bounds() const;

@@ -2,9 +2,16 @@
 
 #include "core/multi_jitter.h"
 #include "core/texture_cache.h"
+#include "lights/environment_light.h"
 #include "shading/phong.h"
 
 namespace penumbra {
+
+Rgb escapedRadiance(const Scene& scene, const LightSet& lights, const Vec3f& dir) {
+    const EnvironmentLight* env = lights.environment();
+    return env ? env->radiance(dir) : scene.background;
+}
+
 Integrator::Integrator(const Scene& scene, const Accelerator& accel, const LightSet& lights,
                        const TextureCache* textures, const RenderSettings& settings)
     : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings) {}
@@ -192,7 +199,7 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
             if (!active[i]) continue;
             PathLane& lane = lanes[i];
             if (!lane.hit) {
-                lane.L += lane.throughput * scene_.background;
+                lane.L += lane.throughput * escapedRadiance(scene_, lights_, lane.ray.d);
                 active[i] = 0;
                 continue;
             }

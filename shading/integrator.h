@@ -53,6 +53,11 @@ struct SampleKey {
     uint32_t index;  // camera sample index within the pixel
 };
 
+/// Radiance a ray leaving the scene along `dir` sees: the environment light
+/// when the scene has one (lights.environment()), else Scene::background. The
+/// one rule for escaped rays, shared by every integrator.
+Rgb escapedRadiance(const Scene& scene, const LightSet& lights, const Vec3f& dir);
+
 /// Path state of one camera sample while a batch of them is shaded.
 struct PathLane;
 

@@ -11,6 +11,7 @@
 #include "core/io/input_file.h"
 #include "core/multi_jitter.h"
 #include "core/parallel.h"
+#include "core/rgb_image.h"
 #include "core/texture_cache.h"
 
 namespace penumbra {
@@ -20,13 +21,39 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// The environment's image: from the loader's open file when there is one
+// (never reopened by name), else opened by path once. Unlike a texture, an
+// environment that cannot be read is an error: it is the scene's light.
+RgbImage readEnvironmentImage(const EnvironmentDesc& env, const Logger& log) {
+    RgbImageFixups fix;
+    RgbImage image = env.imageFile ? decodeRgbImage(env.image, env.imageFile->fd(), TextureBudget{}, &fix)
+                                   : decodeRgbImage(env.image, TextureBudget{}, &fix);
+    if (fix.nonFinite || fix.negative)
+        log.warn(env.image + ": environment image has " + std::to_string(fix.nonFinite) + " non-finite and " +
+                 std::to_string(fix.negative) + " negative channel values; they are taken as 0");
+    return image;
+}
+
 }  // namespace
 
 PreparedScene::PreparedScene(Scene scene, const PrepareOptions& options, const Logger& log) : scene_(std::move(scene)) {
     auto t0 = Clock::now();
     fixups_ = scene_.finalize(log);
     accel_ = makeAccelerator(options.accelerator, scene_, options.quality);
-    lights_ = std::make_unique<LightSet>(scene_);
+    // No silently black scenes: one place for every way in (CLI, JSON, API, Python).
+    if (scene_.defaultLight && !scene_.hasLight()) {
+        EnvironmentDesc white;
+        white.color = Rgb(kDefaultEnvironmentRadiance);
+        scene_.environment = white;
+        defaultLightAdded_ = true;
+        log.warn("the scene has no light (no emitter, point or directional light, ambient light, environment or "
+                 "background): lighting it with a uniform white environment of radiance 1; give it a light or an "
+                 "environment (--env) to change this");
+    }
+    RgbImage environmentImage;
+    if (scene_.environment && !scene_.environment->image.empty())
+        environmentImage = readEnvironmentImage(*scene_.environment, log);
+    lights_ = std::make_unique<LightSet>(scene_, std::move(environmentImage));
     if (!scene_.textures.empty()) {
         // Textures are read from the files the loader opened right after its path check, never
         // reopened by name (a file swapped in since then is not read).

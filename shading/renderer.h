@@ -27,6 +27,10 @@ struct PrepareOptions {
     BuildQuality quality = BuildQuality::High;
 };
 
+/// The light a scene without any gets (Scene::defaultLight): a uniform white
+/// environment of this radiance.
+inline constexpr float kDefaultEnvironmentRadiance = 1.f;
+
 /// A scene made ready to render: finalized, with its BVH, light set and
 /// texture cache. Build once, render many views and settings. Immutable and
 /// safe to share between concurrent renders.
@@ -45,6 +49,9 @@ public:
     const TextureCache* textures() const { return textures_.get(); }
     double buildSeconds() const { return buildSeconds_; }
     const SceneFixups& fixups() const { return fixups_; }
+    /// True when the scene had no light at all and got the default
+    /// environment (Scene::defaultLight; a warning said so).
+    bool defaultLightAdded() const { return defaultLightAdded_; }
 
 private:
     Scene scene_;
@@ -53,6 +60,7 @@ private:
     std::unique_ptr<LightSet> lights_;
     std::unique_ptr<TextureCache> textures_;
     double buildSeconds_ = 0.0;
+    bool defaultLightAdded_ = false;
 };
 
 using pnb::RenderStats;

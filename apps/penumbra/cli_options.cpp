@@ -1,6 +1,9 @@
 #include "cli_options.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
+#include <iterator>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -46,6 +49,31 @@ pnb::Vec3 parseVec3(const std::string& text, const std::string& option) {
             float(parseNumber(parts[2], option))};
 }
 
+void parseEnvironment(const std::string& text, Options& o) {
+    if (text.find(',') != std::string::npos) {
+        pnb::Vec3 c;
+        try {
+            c = parseVec3(text, "--env");
+        } catch (const Error&) {
+            throw Error(ErrorCode::InvalidArgument,
+                        "--env: expected r,g,b (three finite numbers) or an image file, got '" + text + "'");
+        }
+        if (!(c.x >= 0.f && c.y >= 0.f && c.z >= 0.f) || !std::isfinite(c.x + c.y + c.z))
+            throw Error(ErrorCode::InvalidArgument, "--env: radiance must be finite and >= 0, got '" + text + "'");
+        o.envColor = pnb::Color{c.x, c.y, c.z};
+        o.envImage.reset();
+        return;
+    }
+    std::string ext = std::filesystem::path(text).extension().string();
+    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    static const char* const kImages[] = {".exr", ".hdr", ".pfm", ".png", ".jpg", ".jpeg", ".tif", ".tiff"};
+    if (text.empty() || std::find(std::begin(kImages), std::end(kImages), ext) == std::end(kImages))
+        throw Error(ErrorCode::InvalidArgument, "--env: expected r,g,b or an image file (.exr .hdr .pfm .png .jpg "
+                                                ".tif), got '" + text + "'");
+    o.envImage = std::filesystem::path(text);
+    o.envColor.reset();
+}
+
 pnb::CropWindow parseCrop(const std::string& text) {
     auto parts = splitCommas(text);
     if (parts.size() != 4) throw Error(ErrorCode::InvalidArgument, "--crop: expected x0,y0,x1,y1, got '" + text + "'");
@@ -78,6 +106,8 @@ ParseResult parseCommandLine(int argc, char** argv) {
     uint64_t seed = 0;
     float fov = 0, aperture = 0, focus = 0;
     std::string lightSelection;
+    std::string env;
+    float envRotate = 0.f;
 
     app.add_option("scene", o.scene, "Scene file (.obj or .json)")->required();
     app.add_option("-o,--output", o.output, "Output image (.exr .hdr .pfm .png .jpg .tif)")->required();
@@ -107,6 +137,8 @@ ParseResult parseCommandLine(int argc, char** argv) {
     app.add_option("--stats-json", o.statsJson, "Write render statistics as JSON to this file");
     app.add_flag("--strict", o.strict, "Treat skippable scene problems as errors");
     app.add_flag("-q,--quiet", o.quiet, "No progress and no summary");
+    auto* oEnv = app.add_option("--env", env, "Environment light: radiance r,g,b or a lat-long image (.exr .hdr ...)");
+    auto* oEnvRotate = app.add_option("--env-rotate", envRotate, "Turn the --env image by DEG about +y");
 
     try {
         app.parse(argc, argv);
@@ -148,6 +180,18 @@ ParseResult parseCommandLine(int argc, char** argv) {
         if (lightSelection != "all" && lightSelection != "power")
             throw Error(ErrorCode::InvalidArgument, "--light-selection: expected all or power, got '" + lightSelection + "'");
         o.lightSelection = lightSelection;
+    }
+    // --env problems are usage errors (exit 2), like CLI11's own.
+    try {
+        if (oEnv->count()) parseEnvironment(env, o);
+        if (oEnvRotate->count()) {
+            if (!o.envImage) throw Error(ErrorCode::InvalidArgument, "--env-rotate: needs --env FILE (an image)");
+            if (!std::isfinite(envRotate)) throw Error(ErrorCode::InvalidArgument, "--env-rotate: must be finite");
+            o.envRotate = envRotate;
+        }
+    } catch (const Error& e) {
+        std::fprintf(stderr, "penumbra: error: %s (see --help)\n", e.what());
+        return {std::nullopt, 2};
     }
     if (!std::isfinite(o.exposure)) throw Error(ErrorCode::InvalidArgument, "--exposure: must be finite");
     if (o.accel != "embree" && o.accel != "naive")

@@ -28,6 +28,10 @@ struct Options {
     bool quiet = false;
     bool strict = false;
     std::filesystem::path statsJson;
+    // --env r,g,b (envColor) or --env FILE (envImage), --env-rotate DEG.
+    std::optional<pnb::Color> envColor;
+    std::optional<std::filesystem::path> envImage;
+    std::optional<float> envRotate;
 };
 
 /// Parses argv. Returns the options, or an exit code when parsing ended the
@@ -40,6 +44,11 @@ ParseResult parseCommandLine(int argc, char** argv);
 
 /// "x,y,z" -> Vec3; throws pnb::Error(InvalidArgument) naming the option.
 pnb::Vec3 parseVec3(const std::string& text, const std::string& option);
+/// --env's value: "r,g,b" (three finite numbers >= 0) sets o.envColor, an
+/// image file name (.exr .hdr .pfm .png .jpg .jpeg .tif .tiff) o.envImage.
+/// Throws pnb::Error(InvalidArgument) naming --env for anything else.
+void parseEnvironment(const std::string& text, Options& o);
+
 /// "x0,y0,x1,y1" -> CropWindow.
 pnb::CropWindow parseCrop(const std::string& text);
 

@@ -41,6 +41,9 @@ void applyLightOptions(const Options& o, pnb::Scene& scene) {
     };
     if (o.ambient) named("--ambient", [&] { scene.setAmbient(*o.ambient); });
     if (o.background) named("--background", [&] { scene.setBackground(*o.background); });
+    if (o.envColor) named("--env", [&] { scene.setEnvironment(*o.envColor); });
+    // The image's own errors name the file (opened here, decoded when the scene is prepared).
+    if (o.envImage) scene.setEnvironmentImage(o.envImage->string(), o.envRotate.value_or(0.f));
 }
 
 pnb::BuildQuality buildQualityOf(const Options& o) {

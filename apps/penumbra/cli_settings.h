@@ -14,7 +14,7 @@ pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings fromScene
 /// --eye, --look-at, --up, --fov, --aperture, --focus-distance.
 void applyCameraOptions(const Options& o, pnb::Camera& c);
 
-/// --ambient and --background, through pnb::Scene, which holds them to the
+/// --ambient, --background and --env (replacing the scene's environment), through pnb::Scene, which holds them to the
 /// same limits as a scene file's values; errors name the option.
 void applyLightOptions(const Options& o, pnb::Scene& scene);
 

@@ -63,6 +63,7 @@ void precheckOutputs(const Options& o) {
     const std::vector<OutputFile> outputs = outputsOf(o);
     for (size_t i = 0; i < outputs.size(); ++i) {
         refuseOverwrite(outputs[i], o.scene, "the scene file");
+        if (o.envImage) refuseOverwrite(outputs[i], *o.envImage, "the environment image");
         for (size_t k = 0; k < i; ++k) refuseSameOutput(outputs[k], outputs[i]);
     }
 }

@@ -59,8 +59,12 @@ void precheck(const Options& o) {
         pnb::validate(c);
     }
     pnb::Scene probe;
-    applyLightOptions(o, probe);
+    Options colours = o;
+    colours.envImage.reset();  // opened once, into the loaded scene
+    applyLightOptions(colours, probe);
     std::error_code ec;
+    if (o.envImage && fs::symlink_status(*o.envImage, ec).type() == fs::file_type::not_found)
+        throw Error(ErrorCode::FileNotFound, o.envImage->string() + ": no such file");
     // symlink_status: a symlink loop or a FIFO exists, and the loader says what it is.
     if (fs::symlink_status(o.scene, ec).type() == fs::file_type::not_found)
         throw Error(ErrorCode::FileNotFound, o.scene.string() + ": no such file");
@@ -86,6 +90,7 @@ void writeStatsJson(const fs::path& path, const Options& o, const pnb::RenderSet
     j["nonfinite_samples_dropped"] = st.nonFiniteSamples;
     j["mrays_per_second"] = st.mraysPerSecond;
     j["peak_memory_mib"] = peakMemoryMiB();
+    j["default_light"] = prepared.defaultLightAdded();  // the scene had no light: a white environment lit it
     writeStatistics(path, j.dump(2) + "\n");
 }
 

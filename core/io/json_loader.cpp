@@ -14,7 +14,8 @@ LoadedScene SceneReader::read(const Json& root) {
     LoadedScene out;
     out.sourcePath = path_;
     if (!root.is_object()) fail(ErrorCode::ParseError, "", "the top level must be a JSON object, got " + typeName(root));
-    checkKeys(root, "", {"camera", "render", "background", "ambient", "materials", "shapes", "lights", "prototypes"});
+    checkKeys(root, "", {"camera", "render", "background", "ambient", "materials", "shapes", "lights", "prototypes",
+                         "environment"});
     Scene& scene = out.scene;
     // Materials first: shapes refer to them by name wherever they appear in the file.
     if (const Json* m = find(root, "materials")) readMaterials(*m, "/materials", scene);
@@ -24,6 +25,7 @@ LoadedScene SceneReader::read(const Json& root) {
     if (const Json* a = find(root, "ambient")) scene.ambient = colour(*a, "/ambient");
     // Prototypes before shapes: instances name them.
     if (const Json* p = find(root, "prototypes")) readPrototypes(*p, "/prototypes", scene);
+    if (const Json* e = find(root, "environment")) readEnvironment(*e, "/environment", scene);
     if (const Json* s = find(root, "shapes")) {
         expectType(*s, "/shapes", Json::value_t::array, "an array");
         for (size_t i = 0; i < s->size(); ++i) readShape((*s)[i], child("/shapes", i), scene);

@@ -111,6 +111,8 @@ private:
     /// The keys of an "instance" entry, checked.
     PlacedPrototype readPlacement(const Json& j, const std::string& ptr, Scene& scene);
     void readInstance(const Json& j, const std::string& ptr, Scene& scene);
+    // ---- the environment light (json_environment.cpp)
+    void readEnvironment(const Json& j, const std::string& ptr, Scene& scene) const;
 
     /// Refuses a shape whose bounds reach beyond what the accelerators represent.
     void checkRange(const Bounds3f& b, const std::string& ptr) const;

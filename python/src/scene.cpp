@@ -172,6 +172,16 @@ void bindScene(py::module_& m) {
              "Light travelling along `direction` with irradiance E on a surface facing it.")
         .def("set_ambient", &pnb::Scene::setAmbient, py::arg("ambient"))
         .def("set_background", &pnb::Scene::setBackground, py::arg("background"))
+        .def("set_environment", &pnb::Scene::setEnvironment, py::arg("radiance"), py::arg("scale") = 1.f,
+             "Environment light of constant radiance (times scale): lights the scene, seen by rays that leave it.")
+        .def("set_environment_image", &pnb::Scene::setEnvironmentImage, py::arg("path"),
+             py::arg("rotate_degrees") = 0.f, py::arg("scale") = 1.f,
+             "Environment light from a lat-long image (opened now, decoded by prepare), turned about +y.")
+        .def("clear_environment", &pnb::Scene::clearEnvironment)
+        .def_property_readonly("has_environment", &pnb::Scene::hasEnvironment)
+        .def_property("default_light", &pnb::Scene::defaultLight, &pnb::Scene::setDefaultLight,
+                      "True (the default): prepare gives a scene with no light at all a white environment "
+                      "of radiance 1 and warns. False: such a scene renders black.")
         .def_property(
             "camera", [](const pnb::Scene& s) { return optionalCamera(s.camera()); },
             [](pnb::Scene& s, const pnb::Camera& c) { s.setCamera(c); },
@@ -215,6 +225,8 @@ void bindScene(py::module_& m) {
         .def_property_readonly("dropped_triangles", &pnb::PreparedScene::droppedTriangles)
         .def_property_readonly("dropped_shapes", &pnb::PreparedScene::droppedShapes)
         .def_property_readonly("build_seconds", &pnb::PreparedScene::buildSeconds)
+        .def_property_readonly("default_light_added", &pnb::PreparedScene::defaultLightAdded,
+                               "True when the scene had no light and got the default white environment.")
         .def_property_readonly("camera", [](const pnb::PreparedScene& p) { return optionalCamera(p.camera()); })
         .def("default_camera", &pnb::PreparedScene::defaultCamera, py::arg("aspect"), py::arg("vfov_degrees") = 40.f)
         .def("settings", &pnb::PreparedScene::settings)

@@ -358,6 +358,7 @@ TEST(ApiRender, MaterialsCanCarryADiffuseTexture) {
     pnb::Material m;
     m.diffuseTexture = (dir / "missing.png").string();
     s.addSphere({0, 0, 0}, 1.f, s.addMaterial(m));
+    s.setDefaultLight(false);  // only the texture's warning
     logging.prepare(s);
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_NE(warnings[0].find("missing.png: cannot read texture"), std::string::npos) << warnings[0];

@@ -154,6 +154,7 @@ typedef struct pnb_prepared_info {
     size_t primitive_count, triangle_count, light_count;
     size_t dropped_triangles, dropped_shapes;
     double build_seconds;
+    int default_light_added; /* 1: the scene had no light and got the default white environment */
 } pnb_prepared_info;
 
 typedef struct pnb_image_options {
@@ -250,6 +251,15 @@ PNB_API pnb_status pnb_scene_default_camera(const pnb_scene* scene, float aspect
 PNB_API pnb_status pnb_scene_get_settings(const pnb_scene* scene, pnb_render_settings* out);
 /* Shapes plus triangles (0 for NULL). */
 PNB_API size_t pnb_scene_primitive_count(const pnb_scene* scene);
+/* Environment light (docs/rendering.md): a constant radiance times scale, or a lat-long image (opened now,
+   decoded by pnb_prepare; errors name the file) times scale, turned by rotate_degrees about +y. */
+PNB_API pnb_status pnb_scene_set_environment(pnb_scene* scene, pnb_color radiance, float scale);
+PNB_API pnb_status pnb_scene_set_environment_image(pnb_scene* scene, const char* path, float rotate_degrees,
+                                                   float scale);
+PNB_API pnb_status pnb_scene_clear_environment(pnb_scene* scene);
+/* enabled = 1 (the default): pnb_prepare gives a scene with no light at all a uniform white environment of
+   radiance 1 and warns (pnb_prepared_info.default_light_added); 0: such a scene renders black. */
+PNB_API pnb_status pnb_scene_set_default_light(pnb_scene* scene, int enabled);
 
 /* Instancing: a prototype's meshes are stored once and drawn only through its instances (docs/embedding.md).
    pnb_scene_add_prototype returns the new, empty prototype's id in *out_id. */

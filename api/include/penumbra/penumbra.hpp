@@ -181,6 +181,28 @@ public:
                      std::optional<MaterialId> material = std::nullopt);
     std::size_t prototypeCount() const;
     std::size_t instanceCount() const;
+    /// Environment light of constant radiance (times `scale`): it lights the
+    /// scene from every direction and is what rays leaving the scene see (in
+    /// place of the background). docs/rendering.md, "Environment light".
+    void setEnvironment(const Color& radiance, float scale = 1.f);
+    /// Environment light from a lat-long (equirectangular) image, linear
+    /// radiance (EXR, HDR, PFM; 8-bit images are taken as sRGB), times
+    /// `scale`, turned by rotateDegrees about +y (counter-clockwise seen from
+    /// above). The file is opened now, once (Error naming it when it cannot
+    /// be), and decoded by Renderer::prepare (Error(IoError) naming it when it
+    /// is not a readable image or exceeds the 1 GiB image budget).
+    void setEnvironmentImage(const std::string& path, float rotateDegrees = 0.f, float scale = 1.f);
+    /// Removes the environment light.
+    void clearEnvironment();
+    bool hasEnvironment() const;
+    /// On by default: prepare() gives a scene with no light at all (no
+    /// emitter, point or directional light, ambient light, environment or
+    /// background) a uniform white environment of radiance 1 and logs a
+    /// warning, so that it does not render silently black.
+    /// PreparedScene::defaultLightAdded() tells when that happened. Off: such a
+    /// scene renders black.
+    void setDefaultLight(bool enabled);
+    bool defaultLight() const;
 
 private:
     struct Impl;
@@ -225,6 +247,9 @@ public:
     std::optional<Camera> camera() const;
     Camera defaultCamera(float aspect, float vfovDegrees = 40.f) const;
     RenderSettings settings() const;
+    /// True when the scene had no light at all and prepare() gave it the
+    /// default uniform white environment (Scene::setDefaultLight).
+    bool defaultLightAdded() const;
 
 private:
     struct Impl;

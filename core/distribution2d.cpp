@@ -1,0 +1,89 @@
+#include "core/distribution2d.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+
+namespace penumbra {
+
+Distribution1D::Distribution1D(std::span<const float> f) : func_(f.begin(), f.end()), cdf_(f.size() + 1, 0.f) {
+    if (func_.empty()) throw Error(ErrorCode::InvalidArgument, "a distribution needs at least one cell");
+    const size_t n = func_.size();
+    // Summed in double: a 4k x 2k image's rows have thousands of cells.
+    double sum = 0.0;
+    for (float& v : func_) {
+        if (!(std::isfinite(v) && v > 0.f)) v = 0.f;
+        sum += v;
+    }
+    if (!(sum > 0.0)) {
+        std::fill(func_.begin(), func_.end(), 1.f);
+        sum = double(n);
+    } else {
+        integral_ = float(sum / double(n));
+    }
+    double acc = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        acc += func_[i];
+        cdf_[i + 1] = float(acc / sum);
+    }
+    cdf_[n] = 1.f;
+    // Normalise the cells to a density on [0, 1): pdf(i) = f_i / mean(f).
+    const float invMean = float(double(n) / sum);
+    for (float& v : func_) v *= invMean;
+}
+
+Distribution1D::Sample Distribution1D::sample(float u) const {
+    const int n = size();
+    // The last cell whose cdf start is <= u (cells of zero width are never chosen).
+    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+    int i = std::clamp(int(it - cdf_.begin()) - 1, 0, n - 1);
+    while (i > 0 && !(func_[size_t(i)] > 0.f)) --i;  // u == 1 rounding onto a trailing empty cell
+    const float lo = cdf_[size_t(i)], hi = cdf_[size_t(i) + 1];
+    float t = hi > lo ? (u - lo) / (hi - lo) : 0.5f;
+    t = std::clamp(t, 0.f, 1.f);
+    float x = (float(i) + t) / float(n);
+    x = std::min(x, std::nextafter(1.f, 0.f));
+    return {x, func_[size_t(i)], i};
+}
+
+float Distribution1D::pdf(int cell) const {
+    if (cell < 0 || cell >= size()) return 0.f;
+    return func_[size_t(cell)];
+}
+
+namespace {
+
+std::vector<float> rowIntegrals(const std::vector<Distribution1D>& rows) {
+    std::vector<float> out;
+    out.reserve(rows.size());
+    for (const Distribution1D& d : rows) out.push_back(d.integral());
+    return out;
+}
+
+std::vector<Distribution1D> makeRows(std::span<const float> f, int nu, int nv) {
+    if (nu < 1 || nv < 1 || f.size() != size_t(nu) * size_t(nv))
+        throw Error(ErrorCode::InvalidArgument, "distribution size does not match its values");
+    std::vector<Distribution1D> rows;
+    rows.reserve(size_t(nv));
+    for (int v = 0; v < nv; ++v) rows.emplace_back(f.subspan(size_t(v) * size_t(nu), size_t(nu)));
+    return rows;
+}
+
+}  // namespace
+
+Distribution2D::Distribution2D(std::span<const float> f, int nu, int nv)
+    : nu_(nu), nv_(nv), conditional_(makeRows(f, nu, nv)), marginal_(rowIntegrals(conditional_)) {}
+
+Distribution2D::Sample Distribution2D::sample(Vec2f u) const {
+    const Distribution1D::Sample row = marginal_.sample(u.y);
+    const Distribution1D::Sample col = conditional_[size_t(row.cell)].sample(u.x);
+    return {{col.x, row.x}, row.pdf * col.pdf};
+}
+
+float Distribution2D::pdf(Vec2f uv) const {
+    const int iu = std::clamp(int(uv.x * float(nu_)), 0, nu_ - 1);
+    const int iv = std::clamp(int(uv.y * float(nv_)), 0, nv_ - 1);
+    return marginal_.pdf(iv) * conditional_[size_t(iv)].pdf(iu);
+}
+
+}  // namespace penumbra

@@ -1,0 +1,62 @@
+// Piecewise-constant distributions in 1D and 2D, sampled by inverting their
+// CDFs (continuous, so a sample lands anywhere inside its cell). The 2D one
+// picks a row by its marginal, then a column by that row's conditional; the
+// environment light uses it over its lat-long image.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "core/math.h"
+
+namespace penumbra {
+
+/// A step function f on [0, 1) with n equal cells, as a density.
+class Distribution1D {
+public:
+    /// f: the cell values (>= 0; non-finite and negative values count as 0).
+    /// An all-zero f samples uniformly (integral() stays 0).
+    explicit Distribution1D(std::span<const float> f);
+
+    struct Sample {
+        float x;    // in [0, 1)
+        float pdf;  // density at x with respect to dx on [0, 1)
+        int cell;
+    };
+    /// Inverts the CDF at u in [0, 1).
+    Sample sample(float u) const;
+    /// Density of cell i (0 outside).
+    float pdf(int cell) const;
+    int size() const { return int(func_.size()); }
+    /// Integral of f over [0, 1): the mean of the cells.
+    float integral() const { return integral_; }
+
+private:
+    std::vector<float> func_;  // cleaned f, or all ones when f integrates to 0
+    std::vector<float> cdf_;   // size n + 1, cdf_[0] = 0, cdf_[n] = 1
+    float integral_ = 0.f;
+};
+
+/// A step function f on [0, 1)^2 with nu x nv cells (row-major, v = row).
+class Distribution2D {
+public:
+    /// f: nu * nv values, f[v * nu + u]; nu, nv >= 1.
+    Distribution2D(std::span<const float> f, int nu, int nv);
+
+    struct Sample {
+        Vec2f uv;   // in [0, 1)^2
+        float pdf;  // density with respect to du dv
+    };
+    Sample sample(Vec2f u) const;
+    /// Density at uv (clamped into the unit square).
+    float pdf(Vec2f uv) const;
+    int width() const { return nu_; }
+    int height() const { return nv_; }
+
+private:
+    int nu_, nv_;
+    std::vector<Distribution1D> conditional_;  // one per row
+    Distribution1D marginal_;                  // over rows
+};
+
+}  // namespace penumbra

@@ -142,6 +142,8 @@ bool renderTile(const PassContext& c, const PixelRect& tile, RayCounts& counts) 
 PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDesc, const RenderSettings& settings,
                        Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control) {
     checkPass(settings, film, firstSample, sampleCount);
+    if (settings.integrator == IntegratorKind::Path)  // until light sampling with MIS is merged in
+        throw Error(ErrorCode::InvalidArgument, "integrator 'path' is not available in this build yet");
     const Camera camera(cameraDesc, settings.width, settings.height);
     Integrator integrator(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings);
     integrator.setPixelSpread(2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height));
@@ -184,6 +186,10 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     stats.shadowRays = total.shadow;
     stats.reflectionRays = total.reflection;
     stats.nonFiniteSamples = total.nonFinite;
+    stats.transmissionRays = total.transmission;
+    stats.indirectRays = total.indirect;
+    stats.pathLengthSum = total.pathLengthSum;
+    stats.pathLengthMax = total.pathLengthMax;
     stats.invalidRays = prepared.accelerator().invalidRayCount() - invalidBefore;
     stats.threads = settings.threads > 0 ? settings.threads : hardwareThreads();
     result.cancelled = stopped.load();

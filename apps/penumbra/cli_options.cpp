@@ -71,13 +71,14 @@ std::string seedProblem(const std::string& v) {
 }
 
 ParseResult parseCommandLine(int argc, char** argv) {
-    CLI::App app{"penumbra: render an OBJ/MTL or JSON scene with Embree-accelerated Whitted ray tracing"};
+    CLI::App app{"penumbra: render an OBJ/MTL or JSON scene with Embree-accelerated Whitted ray tracing or path tracing"};
     Options o;
     std::string eye, lookAt, up, ambient, background, crop;
     int width = 0, height = 0, spp = 0, lightSamples = 0, maxDepth = 0, threads = 0, tileSize = 0;
     uint64_t seed = 0;
     float fov = 0, aperture = 0, focus = 0;
     std::string lightSelection;
+    std::string integrator;
 
     app.add_option("scene", o.scene, "Scene file (.obj or .json)")->required();
     app.add_option("-o,--output", o.output, "Output image (.exr .hdr .pfm .png .jpg .tif)")->required();
@@ -85,7 +86,8 @@ ParseResult parseCommandLine(int argc, char** argv) {
     auto* oHeight = app.add_option("--height", height, "Image height in pixels");
     auto* oSpp = app.add_option("--spp", spp, "Camera samples per pixel (multi-jittered)");
     auto* oLs = app.add_option("--light-samples", lightSamples, "Area-light samples per light per shading point");
-    auto* oDepth = app.add_option("--max-depth", maxDepth, "Maximum mirror bounces (0 = no reflection rays)");
+    auto* oDepth = app.add_option("--max-depth", maxDepth,
+                                  "whitted: maximum mirror/refraction bounces (0 = none); path: maximum path length");
     auto* oSeed = app.add_option("--seed", seed, "Random seed")
                       ->check(CLI::Validator([](std::string& v) { return seedProblem(v); }, "UINT64"));
     auto* oThreads = app.add_option("--threads", threads, "Render threads (0 = all cores)");
@@ -104,6 +106,7 @@ ParseResult parseCommandLine(int argc, char** argv) {
     app.add_option("--light-selection", lightSelection, "all (every light, N samples each) or power");
     app.add_option("--exposure", o.exposure, "Exposure in stops for PNG/JPG/TIF output");
     app.add_flag("--aovs", o.aovs, "Also write albedo, normal and depth (EXR channels or <stem>.aovs.exr)");
+    app.add_option("--integrator", integrator, "whitted (default: direct light + mirrors + glass) or path (path tracing)");
     app.add_option("--stats-json", o.statsJson, "Write render statistics as JSON to this file");
     app.add_flag("--strict", o.strict, "Treat skippable scene problems as errors");
     app.add_flag("-q,--quiet", o.quiet, "No progress and no summary");
@@ -148,6 +151,11 @@ ParseResult parseCommandLine(int argc, char** argv) {
         if (lightSelection != "all" && lightSelection != "power")
             throw Error(ErrorCode::InvalidArgument, "--light-selection: expected all or power, got '" + lightSelection + "'");
         o.lightSelection = lightSelection;
+    }
+    if (!integrator.empty()) {
+        if (integrator != "whitted" && integrator != "path")
+            throw Error(ErrorCode::InvalidArgument, "--integrator: expected whitted or path, got '" + integrator + "'");
+        o.integrator = integrator;
     }
     if (!std::isfinite(o.exposure)) throw Error(ErrorCode::InvalidArgument, "--exposure: must be finite");
     if (o.accel != "embree" && o.accel != "naive")

@@ -3,6 +3,9 @@
 #include <algorithm>
 
 #include "core/sampling.h"
+#include "lights/spherical_cap.h"
+#include "lights/spherical_rectangle.h"
+#include "lights/spherical_triangle.h"
 
 namespace penumbra {
 
@@ -20,6 +23,28 @@ std::optional<LightSample> areaLightSample(const Vec3f& p, const SurfaceSample& 
     if (!std::isfinite(pdf) || !(pdf > 0.f)) return std::nullopt;
     return LightSample{Le, wi, s.p, dist, pdf, false};
 }
+
+float areaPdfToSolidAngle(const Vec3f& p, const Vec3f& point, const Vec3f& n, float pdfArea, bool twoSided) {
+    const Vec3f d = point - p;
+    const float dist2 = lengthSquared(d);
+    if (!(dist2 > 0.f)) return 0.f;
+    float cosLight = -dot(n, d) / std::sqrt(dist2);
+    if (twoSided) cosLight = std::fabs(cosLight);
+    if (!(cosLight > 0.f)) return 0.f;
+    const float pdf = pdfArea * dist2 / cosLight;
+    return std::isfinite(pdf) ? pdf : 0.f;
+}
+
+namespace {
+
+std::optional<LightSample> solidAngleSample(const Vec3f& p, const Vec3f& point, float solidAngle, const Rgb& Le) {
+    const Vec3f d = point - p;
+    const float dist = length(d);
+    if (!(dist > 0.f) || !(solidAngle > 0.f)) return std::nullopt;
+    return LightSample{Le, d / dist, point, dist, 1.f / solidAngle, false};
+}
+
+}  // namespace
 
 ShapeAreaLight::ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index) : scene_(scene), kind_(kind), index_(index) {
     uint32_t mat = 0;
@@ -40,11 +65,66 @@ ShapeAreaLight::ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index) : 
     Le_ = scene.materials[mat].ke;
     twoSided_ = scene.materials[mat].twoSidedEmission;
     pdfArea_ = 1.f / area_;
-    if (kind == Kind::Rectangle) frame_.n = rectangleNormal(scene.rectangles[index]);
+    if (kind == Kind::Rectangle) {
+        const Rectangle& q = scene.rectangles[index];
+        frame_.n = rectangleNormal(q);
+        orthogonalEdges_ = std::fabs(dot(q.a, q.b)) <= 1e-5f * length(q.a) * length(q.b);
+    }
     if (kind == Kind::Disk) frame_ = Frame::fromNormal(scene.disks[index].normal);
 }
 
+bool ShapeAreaLight::emitsTowards(const Vec3f& p) const {
+    if (twoSided_) return true;
+    switch (kind_) {
+        case Kind::Rectangle: return dot(frame_.n, p - scene_.rectangles[index_].p0) > 0.f;
+        case Kind::Disk: return dot(frame_.n, p - scene_.disks[index_].center) > 0.f;
+        case Kind::Sphere: return true;  // outside sees the front; inside is checked per point
+    }
+    return true;
+}
+
+bool ShapeAreaLight::sphericalRectangleFrom(const Vec3f& p, float* solidAngle) const {
+    if (!orthogonalEdges_) return false;
+    const Rectangle& q = scene_.rectangles[index_];
+    const SphericalRectangle sr(p, q.p0, q.a, q.b);
+    *solidAngle = sr.solidAngle();
+    return *solidAngle >= kSphericalMinSolidAngle;
+}
+
 std::optional<LightSample> ShapeAreaLight::sample(const Vec3f& p, Vec2f u) const {
+    switch (kind_) {
+        case Kind::Rectangle: {
+            if (!emitsTowards(p) || !orthogonalEdges_) break;
+            const Rectangle& q = scene_.rectangles[index_];
+            const SphericalRectangle sr(p, q.p0, q.a, q.b);
+            if (sr.solidAngle() < kSphericalMinSolidAngle) break;
+            return solidAngleSample(p, sr.sample(u), sr.solidAngle(), Le_);
+        }
+        case Kind::Sphere: {
+            const Sphere& s = scene_.spheres[index_];
+            if (auto c = sampleSphereCone(p, s.center, s.radius, u))
+                return LightSample{Le_, c->wi, c->point, length(c->point - p), c->pdf, false};
+            break;  // inside: by area
+        }
+        case Kind::Disk: break;
+    }
+    return sampleArea(p, u);
+}
+
+float ShapeAreaLight::pdf(const Vec3f& p, const Hit& onLight) const {
+    if (!emitsTowards(p)) return 0.f;
+    if (kind_ == Kind::Rectangle) {
+        float solidAngle = 0.f;
+        if (sphericalRectangleFrom(p, &solidAngle)) return 1.f / solidAngle;
+    }
+    if (kind_ == Kind::Sphere) {
+        const Sphere& s = scene_.spheres[index_];
+        if (const float pdf = sphereConePdf(p, s.center, s.radius); pdf > 0.f) return pdf;
+    }
+    return areaPdfToSolidAngle(p, onLight.p, onLight.ng, pdfArea_, twoSided_);
+}
+
+std::optional<LightSample> ShapeAreaLight::sampleArea(const Vec3f& p, Vec2f u) const {
     // The same points as sampleUniform(shape, u), with the normal, frame and
     // pdf taken from the constructor.
     SurfaceSample s{};
@@ -71,6 +151,7 @@ MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t materia
     Le_ = scene.materials[material].ke;
     twoSided_ = scene.materials[material].twoSidedEmission;
     const TriangleMesh& m = scene.meshes[mesh];
+    std::sort(triangles.begin(), triangles.end());
     triangles_.reserve(triangles.size());
     cdf_.reserve(triangles.size());
     double acc = 0.0;
@@ -78,15 +159,17 @@ MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t materia
         Vec3f p0, p1, p2;
         m.vertices(t, p0, p1, p2);
         const Vec3f e1 = p1 - p0, e2 = p2 - p0;
-        triangles_.push_back(Triangle{p0, e1, e2, normalize(cross(e1, e2))});
-        acc += triangleArea(p0, p1, p2);
+        const Vec3f c = (p0 + p1 + p2) / 3.f;
+        const float r2 = std::max({lengthSquared(p0 - c), lengthSquared(p1 - c), lengthSquared(p2 - c)});
+        triangles_.push_back(Triangle{p0, e1, e2, normalize(cross(e1, e2)), c, r2});
+        acc += penumbra::triangleArea(p0, p1, p2);
         cdf_.push_back(static_cast<float>(acc));
     }
+    meshTriangles_ = std::move(triangles);
     totalArea_ = static_cast<float>(acc);
 }
 
-std::optional<LightSample> MeshAreaLight::sample(const Vec3f& p, Vec2f u) const {
-    if (triangles_.empty() || !(totalArea_ > 0.f)) return std::nullopt;
+size_t MeshAreaLight::pick(Vec2f& u) const {
     // Pick a triangle in proportion to its area with u.x, then reuse the
     // remainder of u.x inside the chosen triangle so the sample set stays stratified.
     const float target = u.x * totalArea_;
@@ -94,10 +177,60 @@ std::optional<LightSample> MeshAreaLight::sample(const Vec3f& p, Vec2f u) const 
     i = std::min(i, cdf_.size() - 1);
     const float lo = i ? cdf_[i - 1] : 0.f;
     const float triArea = cdf_[i] - lo;
-    const float ux = triArea > 0.f ? std::clamp((target - lo) / triArea, 0.f, 0x1.fffffep-1f) : 0.5f;
+    u.x = triArea > 0.f ? std::clamp((target - lo) / triArea, 0.f, 0x1.fffffep-1f) : 0.5f;
+    return i;
+}
+
+float MeshAreaLight::sphericalSolidAngle(size_t i, const Vec3f& p) const {
     const Triangle& t = triangles_[i];
-    const Vec2f b = squareToTriangle(Vec2f{ux, u.y});
+    const Vec3f p1 = t.p0 + t.e1, p2 = t.p0 + t.e2;
+    // Cheap test first: seen from beyond twice its bounding radius, every point
+    // of the triangle is at least half the distance to its centroid away, so
+    // it subtends less than 4 area / d^2; small ones are sampled by area
+    // without the trigonometry.
+    const float d2 = lengthSquared(t.centroid - p);
+    if (d2 > 4.f * t.radius2 && 4.f * triangleArea(i) < kSphericalMinSolidAngle * d2) return 0.f;
+    const float omega = triangleSolidAngle(p, t.p0, p1, p2);
+    return omega >= kSphericalMinSolidAngle ? omega : 0.f;
+}
+
+std::optional<LightSample> MeshAreaLight::sample(const Vec3f& p, Vec2f u) const {
+    if (triangles_.empty() || !(totalArea_ > 0.f)) return std::nullopt;
+    const size_t i = pick(u);
+    const Triangle& t = triangles_[i];
+    if (!twoSided_ && !(dot(t.n, p - t.p0) > 0.f)) return std::nullopt;
+    const float omega = sphericalSolidAngle(i, p);
+    if (omega > 0.f) {
+        const auto s = sampleSphericalTriangle(p, t.p0, t.p0 + t.e1, t.p0 + t.e2, u);
+        if (!s) return std::nullopt;
+        // pdf = P(triangle) / solid angle, P = its share of the light's area.
+        const float share = triangleArea(i) / totalArea_;
+        auto ls = solidAngleSample(p, s->point, omega, Le_);
+        if (ls) ls->pdf *= share;
+        return ls;
+    }
+    const Vec2f b = squareToTriangle(u);
     // Uniform over the whole light's area: p_A = 1 / total area.
+    const SurfaceSample s{t.p0 + b.x * t.e1 + b.y * t.e2, t.n, 1.f / totalArea_};
+    return areaLightSample(p, s, Le_, twoSided_);
+}
+
+float MeshAreaLight::pdf(const Vec3f& p, const Hit& onLight) const {
+    const auto it = std::lower_bound(meshTriangles_.begin(), meshTriangles_.end(), onLight.ref.prim);
+    if (it == meshTriangles_.end() || *it != onLight.ref.prim) return 0.f;
+    const size_t i = size_t(it - meshTriangles_.begin());
+    const Triangle& t = triangles_[i];
+    if (!twoSided_ && !(dot(t.n, p - t.p0) > 0.f)) return 0.f;
+    const float omega = sphericalSolidAngle(i, p);
+    if (omega > 0.f) return triangleArea(i) / totalArea_ / omega;
+    return areaPdfToSolidAngle(p, onLight.p, t.n, 1.f / totalArea_, twoSided_);
+}
+
+std::optional<LightSample> MeshAreaLight::sampleArea(const Vec3f& p, Vec2f u) const {
+    if (triangles_.empty() || !(totalArea_ > 0.f)) return std::nullopt;
+    const size_t i = pick(u);
+    const Triangle& t = triangles_[i];
+    const Vec2f b = squareToTriangle(u);
     const SurfaceSample s{t.p0 + b.x * t.e1 + b.y * t.e2, t.n, 1.f / totalArea_};
     return areaLightSample(p, s, Le_, twoSided_);
 }

@@ -1,5 +1,9 @@
-// Area lights: uniform sampling by area on a rectangle, disk, sphere or the
-// triangles of an emissive mesh (picked in proportion to their area).
+// Area lights: rectangles, disks, spheres and the triangles of an emissive
+// mesh. sample() draws directions by the solid angle the emitter subtends
+// where that is exact and pays (spheres: the cone; rectangles: spherical
+// rectangles; large mesh triangles: spherical triangles), by area otherwise
+// (disks, parallelograms, small triangles); sampleArea() is the uniform-area
+// estimator kept for comparisons. pdf() matches sample() exactly.
 #pragma once
 
 #include <cstdint>
@@ -10,20 +14,35 @@
 
 namespace penumbra {
 
+/// Emitters that subtend less than this (steradians) at the shading point are
+/// sampled by area: solid-angle sampling gains nothing there and its
+/// spherical trigonometry loses precision.
+inline constexpr float kSphericalMinSolidAngle = 1e-3f;
+
 /// Shared estimator step: turns a point sampled on an emitter (with its normal
 /// and area pdf) into a solid-angle light sample for shading point p.
 /// One-sided emitters emit on the side their normal faces.
 std::optional<LightSample> areaLightSample(const Vec3f& p, const SurfaceSample& s, const Rgb& Le, bool twoSided);
+
+/// Solid-angle pdf p_A d^2 / cos(theta') of reaching `point` (normal n) from p
+/// with area pdf pdfArea; 0 on the back of a one-sided emitter.
+float areaPdfToSolidAngle(const Vec3f& p, const Vec3f& point, const Vec3f& n, float pdfArea, bool twoSided);
 
 class ShapeAreaLight final : public Light {
 public:
     enum class Kind { Rectangle, Disk, Sphere };
     ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index);
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
+    float pdf(const Vec3f& p, const Hit& onLight) const override;
+    std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
     Rgb power() const override;
     float area() const { return area_; }
 
 private:
+    /// Whether sample() uses the spherical rectangle from p (else area sampling).
+    bool sphericalRectangleFrom(const Vec3f& p, float* solidAngle) const;
+    bool emitsTowards(const Vec3f& p) const;
+
     const Scene& scene_;
     Kind kind_;
     uint32_t index_;
@@ -34,25 +53,39 @@ private:
     // or frame (disks) and the area pdf.
     Frame frame_;
     float pdfArea_;
+    bool orthogonalEdges_ = false;  // rectangles: spherical sampling needs a true rectangle
 };
 
-/// The emissive triangles of one mesh that share one material.
+/// The emissive triangles of one mesh that share one material. A triangle is
+/// picked in proportion to its area, then sampled by solid angle when it
+/// subtends at least kSphericalMinSolidAngle, else by area.
 class MeshAreaLight final : public Light {
 public:
     MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles);
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
+    float pdf(const Vec3f& p, const Hit& onLight) const override;
+    std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
     Rgb power() const override;
     float area() const { return totalArea_; }
     size_t triangleCount() const { return triangles_.size(); }
 
 private:
-    // Copied out of the mesh so a sample touches one cache line, not three vertices.
+    // Copied out of the mesh so a sample touches one triangle record, not three vertices.
     struct Triangle {
         Vec3f p0, e1, e2, n;
+        Vec3f centroid;
+        float radius2;  // squared distance from the centroid to the farthest vertex
     };
+    /// Triangle picked by u.x (by area), with u.x rescaled for reuse inside it.
+    size_t pick(Vec2f& u) const;
+    float triangleArea(size_t i) const { return cdf_[i] - (i ? cdf_[i - 1] : 0.f); }
+    /// Solid angle of triangle i from p when it is sampled by solid angle, else 0.
+    float sphericalSolidAngle(size_t i, const Vec3f& p) const;
+
     Rgb Le_;
     bool twoSided_;
     std::vector<Triangle> triangles_;
+    std::vector<uint32_t> meshTriangles_;  // the mesh's triangle index of each, ascending
     std::vector<float> cdf_;  // cumulative areas, cdf_[i] = sum of areas of triangles [0, i]
     float totalArea_ = 0.f;
 };

@@ -10,6 +10,7 @@ class PointLightSource final : public Light {
 public:
     explicit PointLightSource(const PointLight& l) : light_(l) {}
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
+    float pdf(const Vec3f&, const Hit&) const override { return 0.f; }
     Rgb power() const override { return light_.intensity * (4.f * kPi); }
     bool isDelta() const override { return true; }
 
@@ -22,6 +23,7 @@ public:
     /// sceneRadius: radius of the scene's bounding sphere, for power().
     DirectionalLightSource(const DirectionalLight& l, float sceneRadius);
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
+    float pdf(const Vec3f&, const Hit&) const override { return 0.f; }
     Rgb power() const override { return light_.irradiance * (kPi * radius_ * radius_); }
     bool isDelta() const override { return true; }
 

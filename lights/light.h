@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "core/color.h"
+#include "core/hit.h"
 #include "core/math.h"
 
 namespace penumbra {
@@ -25,6 +26,15 @@ public:
     /// Samples the light from shading point p with u in [0,1)^2. nullopt when
     /// the sample carries nothing (back side of a one-sided emitter, zero pdf).
     virtual std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const = 0;
+    /// Solid-angle pdf with which sample(p, u) produces the direction from p
+    /// to onLight, the point where a ray from p first meets this light (e.g. a
+    /// BRDF-sampled ray's hit; its ng, ref.prim and p are used). 0 for delta
+    /// lights and where the light sends nothing towards p (the back of a
+    /// one-sided emitter), i.e. exactly where sample() cannot return it.
+    virtual float pdf(const Vec3f& p, const Hit& onLight) const = 0;
+    /// The estimator before solid-angle sampling: points uniform in area
+    /// (--direct-light area, for comparisons). Same as sample() unless overridden.
+    virtual std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const { return sample(p, u); }
     /// Total emitted power (for power-proportional light selection).
     virtual Rgb power() const = 0;
     virtual bool isDelta() const { return false; }

@@ -10,20 +10,27 @@ namespace penumbra {
 
 LightSet::LightSet(const Scene& scene) {
     const auto emissive = [&](uint32_t mat) { return scene.materials[mat].isEmissive(); };
+    rectangleLight_.assign(scene.rectangles.size(), -1);
+    diskLight_.assign(scene.disks.size(), -1);
+    sphereLight_.assign(scene.spheres.size(), -1);
+    meshLights_.resize(scene.meshes.size());
     for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
         if (emissive(scene.rectangles[i].material)) {
+            rectangleLight_[i] = int32_t(lights_.size());
             auto l = std::make_unique<ShapeAreaLight>(scene, ShapeAreaLight::Kind::Rectangle, i);
             totalArea_ += l->area();
             lights_.push_back(std::move(l));
         }
     for (uint32_t i = 0; i < scene.disks.size(); ++i)
         if (emissive(scene.disks[i].material)) {
+            diskLight_[i] = int32_t(lights_.size());
             auto l = std::make_unique<ShapeAreaLight>(scene, ShapeAreaLight::Kind::Disk, i);
             totalArea_ += l->area();
             lights_.push_back(std::move(l));
         }
     for (uint32_t i = 0; i < scene.spheres.size(); ++i)
         if (emissive(scene.spheres[i].material)) {
+            sphereLight_[i] = int32_t(lights_.size());
             auto l = std::make_unique<ShapeAreaLight>(scene, ShapeAreaLight::Kind::Sphere, i);
             totalArea_ += l->area();
             lights_.push_back(std::move(l));
@@ -41,6 +48,7 @@ LightSet::LightSet(const Scene& scene) {
         for (auto& [mat, tris] : byMaterial) {
             auto l = std::make_unique<MeshAreaLight>(scene, m, mat, std::move(tris));
             if (!(l->area() > 0.f)) continue;
+            meshLights_[m].emplace_back(mat, uint32_t(lights_.size()));
             totalArea_ += l->area();
             lights_.push_back(std::move(l));
         }
@@ -71,6 +79,24 @@ LightSet::Pick LightSet::pickByPower(float u) const {
     i = std::min(i, powerCdf_.size() - 1);
     const float lo = i ? powerCdf_[i - 1] : 0.f;
     return {i, powerCdf_[i] - lo};
+}
+
+std::optional<size_t> LightSet::lightOf(const Hit& hit) const {
+    const auto found = [](const std::vector<int32_t>& v, uint32_t i) -> std::optional<size_t> {
+        if (i < v.size() && v[i] >= 0) return size_t(v[i]);
+        return std::nullopt;
+    };
+    switch (hit.ref.kind) {
+        case ShapeKind::Rectangle: return found(rectangleLight_, hit.ref.object);
+        case ShapeKind::Disk: return found(diskLight_, hit.ref.object);
+        case ShapeKind::Sphere: return found(sphereLight_, hit.ref.object);
+        case ShapeKind::Mesh:
+            if (hit.ref.object < meshLights_.size())
+                for (const auto& [mat, light] : meshLights_[hit.ref.object])
+                    if (mat == hit.material) return size_t(light);
+            return std::nullopt;
+        default: return std::nullopt;
+    }
 }
 
 }  // namespace penumbra

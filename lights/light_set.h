@@ -3,6 +3,8 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/scene.h"
@@ -24,12 +26,24 @@ public:
         float probability;
     };
     Pick pickByPower(float u) const;
+    /// Probability that pickByPower picks light i.
+    float powerProbability(size_t i) const { return powerCdf_[i] - (i ? powerCdf_[i - 1] : 0.f); }
+
+    /// Index of the area light the hit lies on (from its PrimRef and
+    /// material); nullopt for surfaces that are no light. Which side was hit
+    /// is not checked: Light::pdf is 0 and the material's ke is not seen on the
+    /// back of a one-sided emitter.
+    std::optional<size_t> lightOf(const Hit& hit) const;
 
     size_t areaLightCount() const { return areaLights_; }
     float totalEmitterArea() const { return totalArea_; }
 
 private:
     std::vector<std::unique_ptr<Light>> lights_;
+    // Light index per rectangle, disk and sphere (-1: not emissive), and per
+    // mesh its (material, light index) pairs.
+    std::vector<int32_t> rectangleLight_, diskLight_, sphereLight_;
+    std::vector<std::vector<std::pair<uint32_t, uint32_t>>> meshLights_;
     std::vector<float> powerCdf_;  // normalised, last = 1
     size_t areaLights_ = 0;
     float totalArea_ = 0.f;

@@ -65,7 +65,7 @@ TEST(AreaLights, SphereLightFromOutsideSeesOnlyItsNearSideAndPdfIntegrates) {
     double sum = 0;
     int used = 0;
     for (uint32_t k = 0; k < n; ++k) {
-        auto ls = light.sample(p, multiJitter2D(k, n, 11));
+        auto ls = light.sampleArea(p, multiJitter2D(k, n, 11));
         if (!ls) continue;
         ++used;
         EXPECT_GT(ls->point.z, 0.f) << "only the side facing p emits towards it";
@@ -76,6 +76,14 @@ TEST(AreaLights, SphereLightFromOutsideSeesOnlyItsNearSideAndPdfIntegrates) {
     const double cap = 2 * M_PI * (1 - std::sqrt(1 - 1.0 / 9.0));
     EXPECT_NEAR(sum / n, cap, 0.01 * cap);
     EXPECT_NEAR(double(used) / n, 1.0 / 3.0, 0.02);  // cap area fraction (1 - 1/3) / 2 = 1/3 of the sphere
+    // Cone sampling uses every sample, each with pdf 1 / cap.
+    for (uint32_t k = 0; k < 64; ++k) {
+        auto ls = light.sample(p, multiJitter2D(k, 64, 11));
+        ASSERT_TRUE(ls.has_value());
+        EXPECT_NEAR(ls->pdf, 1.0 / cap, 1e-4 / cap);
+        EXPECT_NEAR(length(ls->point), 1.f, 1e-5f);
+        EXPECT_GT(ls->point.z, 0.f);
+    }
 }
 
 TEST(AreaLights, MeshLightPicksTrianglesInProportionToArea) {
@@ -91,10 +99,10 @@ TEST(AreaLights, MeshLightPicksTrianglesInProportionToArea) {
     const uint32_t n = 1000;
     int first = 0;
     for (uint32_t k = 0; k < n; ++k) {
-        auto ls = light.sample(Vec3f{1, 0.3f, 5}, multiJitter2D(k, n, 3));
+        auto ls = light.sampleArea(Vec3f{1, 0.3f, 5}, multiJitter2D(k, n, 3));
         ASSERT_TRUE(ls.has_value());
         if (ls->point.x < 1.5f) ++first;
-        // pdf is uniform over the light's whole area: p_A = 1/2.
+        // Area sampling: pdf is uniform over the light's whole area: p_A = 1/2.
         float cosL = -dot(Vec3f{0, 0, 1}, ls->wi);
         EXPECT_NEAR(ls->pdf, 0.5f * ls->distance * ls->distance / cosL, 1e-3f * ls->pdf);
     }

@@ -1,0 +1,41 @@
+// Sampling the Phong BRDF (Lafortune & Willems 1994): a mixture of the
+// cosine-weighted diffuse lobe and the cos^n lobe about the mirror direction
+// of wo, for both models of shading/phong.h.
+//
+// Directions and normals are unit vectors pointing away from the surface; n is
+// the shading normal (facing wo) and every cosine below is taken with it. The
+// pdf is per unit solid angle and exact for the mixture actually sampled:
+//     pdf(wi) = P_d max(0, n.wi) / pi + (1 - P_d) (e+1)/(2 pi) max(0, r.wi)^e,
+// r = 2(n.wo)n - wo, e = the Phong exponent, P_d the diffuse lobe's share.
+// Directions below the surface have pdf > 0 (the specular lobe reaches there)
+// but f = 0: sampling them is a wasted sample, which the pdf accounts for.
+#pragma once
+
+#include <optional>
+
+#include "core/color.h"
+#include "core/material.h"
+#include "core/math.h"
+
+namespace penumbra {
+
+struct PhongSample {
+    Vec3f wi;   // sampled direction (unit, above the shading surface)
+    Rgb fCos;   // f_r(wo, wi) * cos(theta_i) (phongResponse for an area light)
+    float pdf;  // solid-angle pdf of wi, phongPdf(m, kd, n, wo, wi)
+};
+
+/// Probability of choosing the diffuse lobe: the lobes' share of the
+/// reflected energy (kd against ks, the classic lobe scaled by its integral
+/// 2 pi / (e + 2)); 0 or 1 for materials with one lobe.
+float phongDiffuseProbability(const Material& m, const Rgb& kd);
+
+/// Samples wi with u in [0,1)^2 (u.x also picks the lobe, then is rescaled).
+/// nullopt when the sample lands below the surface or the material reflects
+/// nothing. kd is the textured diffuse albedo, as for phongResponse.
+std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u);
+
+/// Solid-angle pdf with which samplePhong returns wi (for MIS weights).
+float phongPdf(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi);
+
+}  // namespace penumbra

@@ -1,0 +1,243 @@
+// Solid-angle light sampling: chi-square fits of every sampling routine
+// (cone, spherical rectangle, spherical triangle, area fallbacks) against
+// Light::pdf, pdf() agreeing with the pdf of each sample, the emitter-hit
+// lookup, and closed-form solid angles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/multi_jitter.h"
+#include "core/shapes.h"
+#include "lights/area_light.h"
+#include "lights/light_set.h"
+#include "lights/spherical_cap.h"
+#include "lights/spherical_rectangle.h"
+#include "lights/spherical_triangle.h"
+#include "support/chi_square.h"
+
+using namespace penumbra;
+using penumbra::test::chiSquareDirections;
+
+namespace {
+
+Scene emitterScene(bool twoSided) {
+    Scene s;
+    Material m;
+    m.kd = Rgb(0.f);
+    m.ke = Rgb(2.f);
+    m.twoSidedEmission = twoSided;
+    s.materials.push_back(m);
+    return s;
+}
+
+// The closest emitter hit along a ray (a brute-force loop over the shapes a
+// LightSet turns into lights), completed as the accelerators complete hits.
+std::optional<Hit> firstHit(const Scene& s, const Ray& ray) {
+    std::optional<Hit> best;
+    float tBest = kInfinity;
+    auto consider = [&](std::optional<PrimHit> h, PrimRef ref) {
+        if (h && h->t < tBest) {
+            tBest = h->t;
+            best = s.completeHit(ray, ref, h->t, h->u, h->v);
+        }
+    };
+    for (uint32_t i = 0; i < s.rectangles.size(); ++i)
+        consider(intersect(s.rectangles[i], ray), PrimRef{ShapeKind::Rectangle, i, 0});
+    for (uint32_t i = 0; i < s.disks.size(); ++i) consider(intersect(s.disks[i], ray), PrimRef{ShapeKind::Disk, i, 0});
+    for (uint32_t i = 0; i < s.spheres.size(); ++i)
+        consider(intersect(s.spheres[i], ray), PrimRef{ShapeKind::Sphere, i, 0});
+    for (uint32_t m = 0; m < s.meshes.size(); ++m)
+        for (uint32_t t = 0; t < s.meshes[m].triangleCount(); ++t) {
+            Vec3f p0, p1, p2;
+            s.meshes[m].vertices(t, p0, p1, p2);
+            consider(intersectTriangle(p0, p1, p2, ray), PrimRef{ShapeKind::Mesh, m, t});
+        }
+    return best;
+}
+
+// Chi-square test of light.sample (or sampleArea) from p against light.pdf,
+// and each sample's pdf against light.pdf at the point it chose.
+void expectLightFits(const Scene& scene, const Light& light, const Vec3f& p, bool area = false) {
+    const uint32_t n = 200000;
+    int mismatches = 0;
+    const auto sample = [&](uint32_t i) -> std::optional<Vec3f> {
+        const Vec2f u = multiJitter2D(i, n, 77);
+        const auto ls = area ? light.sampleArea(p, u) : light.sample(p, u);
+        if (!ls) return std::nullopt;
+        if (!area && i % 97 == 0) {
+            const auto h = firstHit(scene, Ray{p, ls->wi});
+            if (!h || std::fabs(light.pdf(p, *h) - ls->pdf) > 2e-3f * ls->pdf) {
+                if (mismatches++ < 3)
+                    ADD_FAILURE() << "sample " << i << ": pdf " << ls->pdf << ", Light::pdf at its hit "
+                                  << (h ? light.pdf(p, *h) : -1.f) << ", prim " << (h ? h->ref.prim : 0u)
+                                  << ", point " << ls->point.x << " " << ls->point.y << " " << ls->point.z;
+            }
+        }
+        return ls->wi;
+    };
+    const auto pdf = [&](const Vec3f& w) -> double {
+        const auto h = firstHit(scene, Ray{p, w});
+        return h ? light.pdf(p, *h) : 0.0;
+    };
+    const auto r = chiSquareDirections(sample, pdf);
+    EXPECT_TRUE(r.passed) << r.message;
+    EXPECT_EQ(mismatches, 0) << "Light::pdf disagrees with the pdf of sampled directions";
+    // All of the light's solid angle is reachable: the pdf integrates to 1.
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 0.01) << r.message;
+}
+
+}  // namespace
+
+TEST(LightSampling, SphereConeFitsItsPdf) {
+    Scene s = emitterScene(false);
+    s.spheres.push_back(Sphere{Vec3f{1.2f, 0.7f, 0.9f}, 0.9f, 0});
+    ShapeAreaLight light(s, ShapeAreaLight::Kind::Sphere, 0);
+    expectLightFits(s, light, Vec3f{0, 0, 0});
+}
+
+TEST(LightSampling, SmallFarSphereConeFitsItsPdf) {
+    Scene s = emitterScene(false);
+    s.spheres.push_back(Sphere{Vec3f{20.f, 10.f, 14.f}, 2.f, 0});
+    ShapeAreaLight light(s, ShapeAreaLight::Kind::Sphere, 0);
+    expectLightFits(s, light, Vec3f{0, 0, 0});
+}
+
+TEST(LightSampling, InsideATwoSidedSphereSamplesByArea) {
+    Scene s = emitterScene(true);
+    s.spheres.push_back(Sphere{Vec3f{0.2f, -0.1f, 0.3f}, 2.f, 0});
+    ShapeAreaLight light(s, ShapeAreaLight::Kind::Sphere, 0);
+    expectLightFits(s, light, Vec3f{0, 0, 0});
+}
+
+TEST(LightSampling, SphericalRectangleFitsItsPdf) {
+    Scene s = emitterScene(false);
+    // Faces the origin (cross(a, b) points to -x), off-centre.
+    s.rectangles.push_back(Rectangle{Vec3f{1.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.1f}, Vec3f{0, 1.5f, 0}, 0});
+    ShapeAreaLight light(s, ShapeAreaLight::Kind::Rectangle, 0);
+    expectLightFits(s, light, Vec3f{0, 0, 0});
+}
+
+TEST(LightSampling, TwoSidedRectangleFromBehindAndNearFitsItsPdf) {
+    Scene s = emitterScene(true);
+    s.rectangles.push_back(Rectangle{Vec3f{-1.f, -0.7f, 0.25f}, Vec3f{2.f, 0, 0}, Vec3f{0, 1.5f, 0}, 0});
+    ShapeAreaLight light(s, ShapeAreaLight::Kind::Rectangle, 0);
+    expectLightFits(s, light, Vec3f{0.1f, 0.2f, 0.f});
+}
+
+TEST(LightSampling, ParallelogramSamplesByArea) {
+    Scene s = emitterScene(false);
+    s.rectangles.push_back(Rectangle{Vec3f{1.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.1f}, Vec3f{0.f, 1.2f, 0.6f}, 0});
+    if (dot(rectangleNormal(s.rectangles[0]), Vec3f{-1, 0, 0}) < 0) std::swap(s.rectangles[0].a, s.rectangles[0].b);
+    ShapeAreaLight light(s, ShapeAreaLight::Kind::Rectangle, 0);
+    expectLightFits(s, light, Vec3f{0, 0, 0});
+}
+
+TEST(LightSampling, DiskSamplesByArea) {
+    Scene s = emitterScene(false);
+    s.disks.push_back(Disk{Vec3f{1.f, 0.5f, 0.6f}, normalize(Vec3f{-1.f, -0.2f, -0.3f}), 0.8f, 0});
+    ShapeAreaLight light(s, ShapeAreaLight::Kind::Disk, 0);
+    expectLightFits(s, light, Vec3f{0, 0, 0});
+}
+
+TEST(LightSampling, MeshLightMixesSphericalAndAreaTrianglesAndFitsItsPdf) {
+    Scene s = emitterScene(false);
+    TriangleMesh m;
+    // Two large triangles close to the origin (spherical triangle sampling),
+    // one tiny far one (area sampling), all facing the origin.
+    for (Vec3f p : {Vec3f{1, -1, -0.5f}, Vec3f{1, 1, -0.5f}, Vec3f{1, 0, 1.2f}, Vec3f{-0.5f, 1, -0.6f},
+                    Vec3f{-0.8f, 1, 0.9f}, Vec3f{0.9f, 1.1f, 0.4f}, Vec3f{5, -30, -8}, Vec3f{6, -30, -8},
+                    Vec3f{5, -30, -9}})
+        m.positions.push_back(p);
+    m.indices = {0, 2, 1, 3, 5, 4, 6, 7, 8};
+    s.meshes.push_back(m);
+    MeshAreaLight light(s, 0, 0, {0, 1, 2});
+    // The triangles face the origin (one-sided emission).
+    for (uint32_t t = 0; t < 3; ++t) {
+        Vec3f p0, p1, p2;
+        s.meshes[0].vertices(t, p0, p1, p2);
+        ASSERT_LT(dot(cross(p1 - p0, p2 - p0), p0), 0.f) << "triangle " << t;
+    }
+    expectLightFits(s, light, Vec3f{0, 0, 0});
+}
+
+TEST(LightSampling, AreaSamplingStillFitsItsPdf) {
+    // sampleArea (--direct-light area) against the area pdf converted to solid angle.
+    Scene s = emitterScene(false);
+    s.rectangles.push_back(Rectangle{Vec3f{1.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.1f}, Vec3f{0, 1.5f, 0}, 0});
+    ShapeAreaLight light(s, ShapeAreaLight::Kind::Rectangle, 0);
+    const Vec3f p{0, 0, 0};
+    const auto r = chiSquareDirections(
+        [&](uint32_t i) -> std::optional<Vec3f> {
+            auto ls = light.sampleArea(p, multiJitter2D(i, 200000, 5));
+            return ls ? std::optional<Vec3f>(ls->wi) : std::nullopt;
+        },
+        [&](const Vec3f& w) -> double {
+            const auto h = firstHit(s, Ray{p, w});
+            return h ? areaPdfToSolidAngle(p, h->p, h->ng, 1.f / light.area(), false) : 0.0;
+        });
+    EXPECT_TRUE(r.passed) << r.message;
+}
+
+TEST(LightSampling, SolidAnglesHaveTheirClosedForms) {
+    // A square [-h, h]^2 at distance d: 4 asin(h^2 / (h^2 + d^2)).
+    const float h = 0.5f, d = 1.f;
+    const SphericalRectangle sr(Vec3f{0, 0, 0}, Vec3f{-h, -h, d}, Vec3f{2 * h, 0, 0}, Vec3f{0, 2 * h, 0});
+    EXPECT_NEAR(sr.solidAngle(), 4.0 * std::asin(h * h / (h * h + d * d)), 1e-6);
+    // Its two halves as triangles.
+    const float half = triangleSolidAngle(Vec3f{0, 0, 0}, Vec3f{-h, -h, d}, Vec3f{h, -h, d}, Vec3f{h, h, d});
+    EXPECT_NEAR(2.0 * half, sr.solidAngle(), 1e-6);
+    // An octant triangle subtends pi/2 from the origin.
+    EXPECT_NEAR(triangleSolidAngle(Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{0, 0, 1}), kPi / 2, 1e-6);
+    // Sphere cap: 2 pi (1 - sqrt(1 - (r/d)^2)).
+    EXPECT_NEAR(1.0 / sphereConePdf(Vec3f{0, 0, 0}, Vec3f{0, 0, 3}, 1.f), 2 * M_PI * (1 - std::sqrt(8.0 / 9.0)), 1e-6);
+    EXPECT_EQ(sphereConePdf(Vec3f{0, 0, 0}, Vec3f{0, 0, 0.5f}, 1.f), 0.f);  // inside
+    // A tiny, far sphere keeps its precision (no 1 - cos cancellation).
+    const double capSmall = 1.0 / sphereConePdf(Vec3f{0, 0, 0}, Vec3f{0, 0, 1000}, 0.01f);
+    EXPECT_NEAR(capSmall / (M_PI * 1e-10), 1.0, 1e-4);
+    // Samples land on the shapes.
+    for (uint32_t k = 0; k < 64; ++k) {
+        const Vec3f q = sr.sample(multiJitter2D(k, 64, 1));
+        EXPECT_NEAR(q.z, d, 1e-5f);
+        EXPECT_LE(std::fabs(q.x), h + 1e-5f);
+        EXPECT_LE(std::fabs(q.y), h + 1e-5f);
+    }
+}
+
+TEST(LightSet, FindsTheLightOfAnEmitterHit) {
+    Scene s;
+    Material plain, a, b;
+    a.ke = Rgb(1.f);
+    b.ke = Rgb(3.f);
+    s.materials = {plain, a, b};
+    s.rectangles.push_back(Rectangle{Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 0, 1}, 0});  // not a light
+    s.rectangles.push_back(Rectangle{Vec3f{0, 1, 0}, Vec3f{1, 0, 0}, Vec3f{0, 0, 1}, 1});
+    s.spheres.push_back(Sphere{Vec3f{5, 0, 0}, 1.f, 2});
+    s.disks.push_back(Disk{Vec3f{0, 4, 0}, Vec3f{0, -1, 0}, 1.f, 1});
+    TriangleMesh m;
+    for (Vec3f p : {Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{0, 0, 1}}) m.positions.push_back(p);
+    m.indices = {0, 1, 2, 0, 2, 3, 0, 3, 1};
+    m.faceMaterials = {2, 0, 1};
+    s.meshes.push_back(m);
+    LightSet lights(s);
+    ASSERT_EQ(lights.size(), 5u);  // rectangle 1, disk, sphere, two mesh groups
+    const auto lightOf = [&](ShapeKind kind, uint32_t object, uint32_t prim, uint32_t material) {
+        Hit h;
+        h.ref = PrimRef{kind, object, prim};
+        h.material = material;
+        return lights.lightOf(h);
+    };
+    EXPECT_FALSE(lightOf(ShapeKind::Rectangle, 0, 0, 0).has_value());
+    EXPECT_EQ(lightOf(ShapeKind::Rectangle, 1, 0, 1), std::optional<size_t>(0));
+    EXPECT_EQ(lightOf(ShapeKind::Disk, 0, 0, 1), std::optional<size_t>(1));
+    EXPECT_EQ(lightOf(ShapeKind::Sphere, 0, 0, 2), std::optional<size_t>(2));
+    const auto m1 = lightOf(ShapeKind::Mesh, 0, 2, 1), m2 = lightOf(ShapeKind::Mesh, 0, 0, 2);
+    ASSERT_TRUE(m1 && m2);
+    EXPECT_NE(*m1, *m2);
+    EXPECT_FALSE(lightOf(ShapeKind::Mesh, 0, 1, 0).has_value());
+    EXPECT_FALSE(lightOf(ShapeKind::Plane, 0, 0, 1).has_value());
+    // The power probabilities sum to 1 and match pickByPower.
+    double sum = 0;
+    for (size_t i = 0; i < lights.size(); ++i) sum += lights.powerProbability(i);
+    EXPECT_NEAR(sum, 1.0, 1e-6);
+    EXPECT_FLOAT_EQ(lights.pickByPower(0.f).probability, lights.powerProbability(0));
+}

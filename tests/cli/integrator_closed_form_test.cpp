@@ -12,6 +12,8 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "core/image_io.h"
@@ -136,6 +138,30 @@ TEST_P(ClosedForm, GlassSlabAtNormalIncidencePath) {
     const double n = 1.5, R = (n - 1) * (n - 1) / ((n + 1) * (n + 1));
     const double expected = (1 - R) * (1 - R) / (1 - R * R);
     EXPECT_NEAR(renderMean(scene, "--integrator path --spp 64 --accel " + GetParam()), expected, 0.015 * expected);
+}
+
+TEST(IntegratorStats, StatsJsonNamesTheIntegratorRayKindsAndPathLengths) {
+    const fs::path dir = test::tempDir();
+    const fs::path scene = slabScene(dir);
+    for (const char* integrator : {"whitted", "path"}) {
+        const fs::path stats = dir / (std::string(integrator) + ".json");
+        const RunResult r = runPenumbra(scene.string() + " -q --spp 4 --integrator " + integrator + " -o " +
+                                        (dir / "s.pfm").string() + " --stats-json " + stats.string());
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+        std::ifstream in(stats);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        EXPECT_EQ(j.at("integrator"), integrator);
+        const nlohmann::json& rays = j.at("rays");
+        EXPECT_GT(rays.at("transmission").get<uint64_t>(), 0u) << integrator;
+        EXPECT_EQ(rays.at("total").get<uint64_t>(),
+                  rays.at("camera").get<uint64_t>() + rays.at("shadow").get<uint64_t>() +
+                      rays.at("reflection").get<uint64_t>() + rays.at("transmission").get<uint64_t>() +
+                      rays.at("indirect").get<uint64_t>());
+        // Camera ray, into the slab, out of it, (internal reflections,) to the lamp: at least 3 rays.
+        EXPECT_GE(j.at("path_length").at("mean").get<double>(), 2.9) << integrator;
+        EXPECT_GE(j.at("path_length").at("max").get<uint32_t>(), 3u) << integrator;
+        EXPECT_LE(j.at("path_length").at("max").get<uint32_t>(), 13u) << integrator;  // max_depth 12 + 1
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(BothAccelerators, ClosedForm, ::testing::Values(std::string("naive"), std::string("embree")),

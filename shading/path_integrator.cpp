@@ -90,7 +90,12 @@ PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, con
     : scene_(scene), accel_(accel), lights_(lights), settings_(settings),
       surfaces_(scene, accel, lights, textures, settings) {}
 
-Rgb PathIntegrator::escaped(const Ray& /*ray*/) const { return scene_.background; }
+Rgb PathIntegrator::escaped(const PathVertexLane& /*lane*/) const {
+    // With an environment light E (a light of the set, so next-event estimation samples it):
+    //   L = E.radiance(lane.ray.d) * (lane.specular ? 1 : powerHeuristic(1, lane.bsdfPdf,
+    //       lightSamples, E.pdf(lane.ray.d) [* powerProbability(its index) with power selection])).
+    return scene_.background;
+}
 
 float PathIntegrator::scatterPdf(const PathVertexLane& lane, const Vec3f& wi) const {
     if (!(lane.pPhong > 0.f)) return 0.f;
@@ -248,7 +253,7 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
             if (!active[i]) continue;
             PathVertexLane& lane = lanes[i];
             if (!lane.hit) {
-                lane.L += lane.throughput * escaped(lane.ray);
+                lane.L += lane.throughput * escaped(lane);
                 active[i] = 0;
                 continue;
             }

@@ -52,10 +52,11 @@ public:
     Rgb Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts) const;
 
 private:
-    /// What a ray that leaves the scene sees: the scene's background. The
-    /// environment light (LightSet::environment(), with its MIS weight against
-    /// the BRDF pdf) takes its place here when the scene has one.
-    Rgb escaped(const Ray& ray) const;
+    /// What the lane's ray sees when it leaves the scene, times its MIS weight:
+    /// the scene's background (no light samples it: weight 1). The environment
+    /// light (LightSet::environment()) takes its place here when the scene has
+    /// one, weighted after a non-specular bounce as emitterHitWeight does.
+    Rgb escaped(const PathVertexLane& lane) const;
     /// Next-event estimation with MIS at every lane's vertex, added to its L.
     void addDirectLight(std::span<PathVertexLane> lanes, std::span<const uint8_t> active, int depth,
                         RayCounts& counts) const;

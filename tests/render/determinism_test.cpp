@@ -268,3 +268,23 @@ TEST_P(GlassDeterminism, EmbreeAndNaiveAgree) {
     EXPECT_GT(double(same) / double(x.size()), GetParam() == IntegratorKind::Path ? 0.9 : 0.99)
         << "share of pixel values within 0.1%";
 }
+
+// The AOVs describe the first hit, whichever integrator shades it: identical for both.
+TEST(IntegratorAovs, FirstHitAovsDoNotDependOnTheIntegrator) {
+    const PreparedScene prepared(testScene(), {}, quietLogger());
+    RenderSettings st = testSettings();
+    st.aovs = true;
+    Film whitted = makeFilm(st);
+    render(prepared, testCamera(), st, whitted);
+    st.integrator = IntegratorKind::Path;
+    Film path = makeFilm(st);
+    render(prepared, testCamera(), st, path);
+    ASSERT_TRUE(path.hasAovs());
+    size_t lit = 0;
+    for (size_t i = 0; i < size_t(st.width * st.height); ++i) {
+        EXPECT_EQ(whitted.albedo(i), path.albedo(i)) << i;
+        EXPECT_EQ(whitted.depth(i), path.depth(i)) << i;
+        lit += path.albedo(i).maxComponent() > 0.f;
+    }
+    EXPECT_GT(lit, size_t(st.width * st.height / 2));
+}

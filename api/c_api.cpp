@@ -116,6 +116,8 @@ pnb_status pnb_scene_add_material(pnb_scene* scene, const pnb_material* material
                              "material model " + std::to_string(model) + " is not a pnb_phong_model");
         m.model = model == PNB_PHONG_CLASSIC ? pnb::PhongModel::Classic : pnb::PhongModel::Normalized;
         if (material->diffuse_texture) m.diffuseTexture = material->diffuse_texture;
+        m.kt = in(material->kt);
+        m.ior = material->ior;
         const pnb::MaterialId id = scene->scene.addMaterial(m);
         if (out_id) *out_id = id;
     });

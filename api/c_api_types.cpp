@@ -26,6 +26,8 @@ PNB_SAME_VALUE(PNB_PHONG_NORMALIZED, pnb::PhongModel::Normalized);
 PNB_SAME_VALUE(PNB_PHONG_CLASSIC, pnb::PhongModel::Classic);
 PNB_SAME_VALUE(PNB_LIGHTS_ALL, pnb::LightSelection::All);
 PNB_SAME_VALUE(PNB_LIGHTS_POWER, pnb::LightSelection::Power);
+PNB_SAME_VALUE(PNB_INTEGRATOR_WHITTED, pnb::IntegratorKind::Whitted);
+PNB_SAME_VALUE(PNB_INTEGRATOR_PATH, pnb::IntegratorKind::Path);
 PNB_SAME_VALUE(PNB_BUILD_LOW, pnb::BuildQuality::Low);
 PNB_SAME_VALUE(PNB_BUILD_MEDIUM, pnb::BuildQuality::Medium);
 PNB_SAME_VALUE(PNB_BUILD_HIGH, pnb::BuildQuality::High);
@@ -122,6 +124,11 @@ pnb::RenderSettings in(const pnb_render_settings& s) {
                          "light_selection " + std::to_string(selection) + " is not a pnb_light_selection");
     r.lightSelection = selection == PNB_LIGHTS_POWER ? pnb::LightSelection::Power : pnb::LightSelection::All;
     r.aovs = s.aovs != 0;
+    const int integrator = rawEnum(s.integrator);
+    if (integrator != PNB_INTEGRATOR_WHITTED && integrator != PNB_INTEGRATOR_PATH)
+        throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                         "integrator " + std::to_string(integrator) + " is not a pnb_integrator");
+    r.integrator = integrator == PNB_INTEGRATOR_PATH ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
     return r;
 }
 pnb_render_settings out(const pnb::RenderSettings& s) {
@@ -141,6 +148,7 @@ pnb_render_settings out(const pnb::RenderSettings& s) {
     r.crop_y1 = s.crop ? s.crop->y1 : 0;
     r.light_selection = s.lightSelection == pnb::LightSelection::Power ? PNB_LIGHTS_POWER : PNB_LIGHTS_ALL;
     r.aovs = s.aovs ? 1 : 0;
+    r.integrator = s.integrator == pnb::IntegratorKind::Path ? PNB_INTEGRATOR_PATH : PNB_INTEGRATOR_WHITTED;
     return r;
 }
 
@@ -155,6 +163,10 @@ pnb_render_stats out(const pnb::RenderStats& s) {
     r.mrays_per_second = s.mraysPerSecond;
     r.samples_per_pixel = s.samplesPerPixel;
     r.threads = s.threads;
+    r.transmission_rays = s.transmissionRays;
+    r.indirect_rays = s.indirectRays;
+    r.path_length_sum = s.pathLengthSum;
+    r.path_length_max = s.pathLengthMax;
     return r;
 }
 
@@ -179,6 +191,8 @@ void pnb_material_init(pnb_material* m) {
     m->two_sided_emission = 0;
     m->model = PNB_PHONG_NORMALIZED;
     m->diffuse_texture = nullptr;
+    m->kt = out(d.kt);
+    m->ior = d.ior;
 }
 
 void pnb_mesh_desc_init(pnb_mesh_desc* mesh) {

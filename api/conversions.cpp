@@ -4,6 +4,7 @@
 // layouts are pinned here.
 #include "api/api_internal.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <type_traits>
 
@@ -52,7 +53,12 @@ void accumulate(RenderStats& total, const RenderStats& pass) {
     total.invalidRays += pass.invalidRays;
     total.nonFiniteSamples += pass.nonFiniteSamples;
     total.renderSeconds += pass.renderSeconds;
-    const double rays = double(total.cameraRays + total.shadowRays + total.reflectionRays);
+    total.transmissionRays += pass.transmissionRays;
+    total.indirectRays += pass.indirectRays;
+    total.pathLengthSum += pass.pathLengthSum;
+    total.pathLengthMax = std::max(total.pathLengthMax, pass.pathLengthMax);
+    const double rays = double(total.cameraRays + total.shadowRays + total.reflectionRays + total.transmissionRays +
+                               total.indirectRays);
     total.mraysPerSecond = total.renderSeconds > 0 ? rays / total.renderSeconds * 1e-6 : 0.0;
     total.samplesPerPixel = pass.samplesPerPixel;
     total.threads = pass.threads;

@@ -124,6 +124,8 @@ MaterialId Scene::addMaterial(const Material& m) {
         requireColor(m.kr, what + ": kr");
         requireColor(m.ke, what + ": ke");
         require(std::isfinite(m.exponent) && m.exponent >= 0.f, what + ": exponent must be finite and >= 0");
+        requireColor(m.kt, what + ": kt");
+        require(std::isfinite(m.ior) && m.ior > 0.f, what + ": ior must be finite and > 0");
         require(s.materials.size() < std::numeric_limits<MaterialId>::max(), "too many materials");
         pn::Material pm{m};
         if (!m.diffuseTexture.empty()) {

@@ -21,6 +21,8 @@ void validateSettings(const RenderSettings& s) {
     require(s.maxDepth >= 0 && s.maxDepth <= 1000000, "max depth must be in [0, 1000000], got " + std::to_string(s.maxDepth));
     require(s.threads >= 0 && s.threads <= 4096, "threads must be >= 0 (0 = all cores), got " + std::to_string(s.threads));
     require(s.tileSize > 0 && s.tileSize <= 4096, "tile size must be in [1, 4096], got " + std::to_string(s.tileSize));
+    require(s.integrator == IntegratorKind::Whitted || s.integrator == IntegratorKind::Path,
+            "integrator must be whitted or path, got " + std::to_string(int(s.integrator)));
     if (s.crop) {
         const CropWindow& c = *s.crop;
         require(c.x0 >= 0 && c.y0 >= 0 && c.x1 <= s.width && c.y1 <= s.height && c.x0 < c.x1 && c.y0 < c.y1,
@@ -39,6 +41,7 @@ void SettingsPatch::applyTo(RenderSettings& s) const {
     if (tileSize) s.tileSize = *tileSize;
     if (seed) s.seed = *seed;
     if (lightSelection) s.lightSelection = *lightSelection;
+    if (integrator) s.integrator = *integrator;
 }
 
 }  // namespace penumbra

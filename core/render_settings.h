@@ -14,6 +14,7 @@ namespace penumbra {
 // used inside under their old names.
 using CropWindow = pnb::CropWindow;
 using LightSelection = pnb::LightSelection;
+using IntegratorKind = pnb::IntegratorKind;
 using RenderSettings = pnb::RenderSettings;
 
 /// Throws Error(InvalidArgument) naming the offending setting.
@@ -24,6 +25,7 @@ struct SettingsPatch {
     std::optional<int> width, height, spp, lightSamples, maxDepth, threads, tileSize;
     std::optional<uint64_t> seed;
     std::optional<LightSelection> lightSelection;
+    std::optional<IntegratorKind> integrator;
     void applyTo(RenderSettings& s) const;
 };
 

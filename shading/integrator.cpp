@@ -3,7 +3,12 @@
 #include "core/multi_jitter.h"
 #include "core/texture_cache.h"
 #include "lights/environment_light.h"
+#include "shading/dielectric.h"
 #include "shading/phong.h"
+
+#include <algorithm>
+#include <limits>
+#include <vector>
 
 namespace penumbra {
 
@@ -55,6 +60,14 @@ ShadingPoint Integrator::shadingPoint(const Hit& hit, const Ray& ray, float path
     return sp;
 }
 
+/// A ray one lane still has to trace (the transmitted branch of a dielectric).
+struct PendingRay {
+    Ray ray;
+    Rgb throughput;
+    float pathLength;
+    int depth;
+};
+
 struct PathLane {
     Ray ray;
     std::optional<Hit> hit;
@@ -63,6 +76,9 @@ struct PathLane {
     Rgb throughput{1.f};
     float pathLength = 0.f;
     SampleKey key{};
+    int depth = 0;                     // bounces before the ray being traced
+    int longest = 0;                   // rays along the deepest branch so far (path-length statistics)
+    std::vector<PendingRay> pending;   // transmitted rays still to trace (dielectrics), last first
 };
 
 namespace {
@@ -193,11 +209,12 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
     }
     counts.camera += n;
     const std::span<PathLane> batch(lanes, n);
-    for (int depth = 0;; ++depth) {
+    for (bool first = true;; first = false) {
         // Emission, ambient and the shading point of every lane still going.
         for (size_t i = 0; i < n; ++i) {
             if (!active[i]) continue;
             PathLane& lane = lanes[i];
+            lane.longest = std::max(lane.longest, lane.depth + 1);
             if (!lane.hit) {
                 lane.L += lane.throughput * escapedRadiance(scene_, lights_, lane.ray.d);
                 active[i] = 0;
@@ -209,34 +226,20 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
             const Material& m = *lane.sp.material;
             // Emission is one-sided: only the side the geometric normal faces emits.
             if (m.isEmissive() && (dot(lane.sp.wo, hit.ng) > 0.f || m.twoSidedEmission)) lane.L += lane.throughput * m.ke;
-            if (depth == 0 && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};
+            if (first && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};
             lane.L += lane.throughput * (m.ka * scene_.ambient);
         }
-        addDirectLight(batch, std::span<const uint8_t>(active, n), depth, counts);
+        addDirectLightByDepth(batch, std::span<uint8_t>(active, n), counts);
 
-        // Mirror bounces of the lanes that continue, traced together.
+        // Mirror and transmitted rays of the lanes that continue, traced together.
         Ray next[kMaxBatch];
         uint8_t nextLane[kMaxBatch];
         size_t nNext = 0;
         for (size_t i = 0; i < n; ++i) {
-            if (!active[i]) continue;
             PathLane& lane = lanes[i];
-            const Material& m = *lane.sp.material;
-            if (!m.isMirror() || depth >= settings_.maxDepth) {
-                active[i] = 0;
-                continue;
-            }
-            // r = d - 2(d.n)n about the shading normal; fall back to the geometric
-            // normal when smooth normals would send the ray below the surface.
-            Vec3f r = reflect(lane.ray.d, lane.sp.ns);
-            if (dot(r, lane.sp.ng) <= 0.f) r = reflect(lane.ray.d, lane.sp.ng);
-            lane.throughput *= m.kr;
-            if (lane.throughput.isBlack()) {
-                active[i] = 0;
-                continue;
-            }
-            lane.ray = spawnRay(lane.sp.p, lane.sp.ng, normalize(r));
-            ++counts.reflection;
+            // A lane whose branch ends (miss, diffuse surface, depth limit) takes its next pending ray.
+            active[i] = (active[i] && continueLane(lane, counts)) || resumePending(lane);
+            if (!active[i]) continue;
             next[nNext] = lane.ray;
             nextLane[nNext++] = static_cast<uint8_t>(i);
         }
@@ -246,6 +249,8 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
         for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c];
     }
     for (size_t i = 0; i < n; ++i) {
+        counts.pathLengthSum += uint64_t(lanes[i].longest);
+        counts.pathLengthMax = std::max(counts.pathLengthMax, uint32_t(lanes[i].longest));
         if (lanes[i].L.isFinite()) {
             radiance[i] = lanes[i].L;
         } else {
@@ -253,6 +258,71 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
             radiance[i] = Rgb{};
         }
     }
+}
+
+void Integrator::addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const {
+    // Light samples are numbered by bounce depth, and the lanes of a batch may be at different
+    // depths once dielectrics split them: one call per depth present, in increasing order. Without
+    // dielectrics every lane is at the same depth and this is a single call.
+    const size_t n = lanes.size();
+    uint8_t mask[kMaxBatch];
+    int depth = -1;
+    for (;;) {
+        int nextDepth = std::numeric_limits<int>::max();
+        for (size_t i = 0; i < n; ++i)
+            if (active[i] && lanes[i].depth > depth) nextDepth = std::min(nextDepth, lanes[i].depth);
+        if (nextDepth == std::numeric_limits<int>::max()) return;
+        depth = nextDepth;
+        for (size_t i = 0; i < n; ++i) mask[i] = active[i] && lanes[i].depth == depth;
+        addDirectLight(lanes, std::span<const uint8_t>(mask, n), depth, counts);
+    }
+}
+
+bool Integrator::continueLane(PathLane& lane, RayCounts& counts) const {
+    const Material& m = *lane.sp.material;
+    if (lane.depth >= settings_.maxDepth) return false;
+    if (m.isDielectric()) {
+        // Whitted 1980: the mirror ray and the transmitted ray, weighted by Fresnel. The lane follows
+        // the mirror ray and keeps the transmitted one pending (its own stack, depth first), so a
+        // lane still traces one ray per step and the batch stays one packet.
+        const bool front = dot(lane.sp.wo, lane.hit->ng) > 0.f;
+        const float eta = front ? m.ior : 1.f / m.ior;
+        const DielectricSplit split = splitDielectric(lane.sp.wo, lane.sp.ns, lane.sp.ng, eta, Rgb(m.kt));
+        const Rgb tt = lane.throughput * split.transmittedWeight;
+        if (split.transmitted && !tt.isBlack()) {
+            lane.pending.push_back(
+                PendingRay{spawnRay(lane.sp.p, lane.sp.ng, *split.transmitted), tt, lane.pathLength, lane.depth + 1});
+            ++counts.transmission;
+        }
+        lane.throughput *= split.reflectedWeight;
+        if (lane.throughput.isBlack()) return false;
+        lane.ray = spawnRay(lane.sp.p, lane.sp.ng, split.reflected);
+        ++lane.depth;
+        ++counts.reflection;
+        return true;
+    }
+    if (!m.isMirror()) return false;
+    // r = d - 2(d.n)n about the shading normal; fall back to the geometric
+    // normal when smooth normals would send the ray below the surface.
+    Vec3f r = reflect(lane.ray.d, lane.sp.ns);
+    if (dot(r, lane.sp.ng) <= 0.f) r = reflect(lane.ray.d, lane.sp.ng);
+    lane.throughput *= m.kr;
+    if (lane.throughput.isBlack()) return false;
+    lane.ray = spawnRay(lane.sp.p, lane.sp.ng, normalize(r));
+    ++lane.depth;
+    ++counts.reflection;
+    return true;
+}
+
+bool Integrator::resumePending(PathLane& lane) const {
+    if (lane.pending.empty()) return false;
+    const PendingRay& p = lane.pending.back();
+    lane.ray = p.ray;
+    lane.throughput = p.throughput;
+    lane.pathLength = p.pathLength;
+    lane.depth = p.depth;
+    lane.pending.pop_back();
+    return true;
 }
 
 Rgb Integrator::Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts, FirstHit* firstHit) const {

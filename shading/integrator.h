@@ -1,6 +1,9 @@
 // Whitted-style integrator: emission + ambient + Monte Carlo direct lighting
-// from every light at each hit, plus perfect mirror reflection carried
-// iteratively with a throughput (no recursion, so any max depth is safe).
+// from every light at each hit, plus perfect mirror reflection and, at
+// dielectrics, Whitted's transmitted ray beside the mirror ray (Fresnel
+// weights), carried iteratively with a throughput: each lane follows one ray
+// and keeps the other branches on a small stack of its own (no recursion, so
+// any max depth is safe; the stack grows by at most one entry per bounce).
 #pragma once
 
 #include <cstdint>
@@ -22,14 +25,22 @@ class TextureCache;
 struct RayCounts {
     uint64_t camera = 0, shadow = 0, reflection = 0;
     uint64_t nonFinite = 0;  // radiance samples that were NaN/Inf and dropped
+    uint64_t transmission = 0;  // refracted rays (dielectrics)
+    uint64_t indirect = 0;      // path: diffuse and glossy bounce rays
+    uint64_t pathLengthSum = 0; // rays along each camera sample's path (whitted: deepest branch)
+    uint32_t pathLengthMax = 0;
     RayCounts& operator+=(const RayCounts& o) {
         camera += o.camera;
         shadow += o.shadow;
         reflection += o.reflection;
         nonFinite += o.nonFinite;
+        transmission += o.transmission;
+        indirect += o.indirect;
+        pathLengthSum += o.pathLengthSum;
+        pathLengthMax = pathLengthMax > o.pathLengthMax ? pathLengthMax : o.pathLengthMax;
         return *this;
     }
-    uint64_t total() const { return camera + shadow + reflection; }
+    uint64_t total() const { return camera + shadow + reflection + transmission + indirect; }
 };
 
 /// First-hit data for the AOVs.
@@ -86,10 +97,21 @@ public:
     /// Radiance along one camera ray (a batch of one; for tests and tools).
     Rgb Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts, FirstHit* firstHit) const;
 
+    /// The shading point of a hit reached along `ray` after pathLength (both
+    /// integrators build it this one way: two-sided normals, textured kd).
+    ShadingPoint shade(const Hit& hit, const Ray& ray, float pathLength) const { return shadingPoint(hit, ray, pathLength); }
+
 private:
     ShadingPoint shadingPoint(const Hit& hit, const Ray& ray, float pathLength) const;
     /// Adds each lane's direct light (times its throughput) to its radiance.
     void addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth, RayCounts& counts) const;
+    /// addDirectLight for lanes at different bounce depths (dielectrics split lanes).
+    void addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const;
+    /// Sets the lane's next ray after its shading point (mirror, or a dielectric's mirror ray with the
+    /// transmitted one kept pending); false when the branch ends.
+    bool continueLane(PathLane& lane, RayCounts& counts) const;
+    /// Makes the lane's last pending ray its current one; false when none is left.
+    bool resumePending(PathLane& lane) const;
     Rgb diffuseAlbedo(const Material& m, const Hit& hit, float pathLength, const Vec3f& wo) const;
 
     const Scene& scene_;

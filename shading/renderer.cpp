@@ -13,6 +13,7 @@
 #include "core/parallel.h"
 #include "core/rgb_image.h"
 #include "core/texture_cache.h"
+#include "shading/path_integrator.h"
 
 namespace penumbra {
 namespace {
@@ -84,6 +85,7 @@ struct PassContext {
     uint32_t firstSample, sampleCount;
     bool useLens;
     const std::atomic<bool>* cancel;
+    const PathIntegrator* path;  // set with --integrator path; else `integrator` (Whitted) shades
 
     bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
 };
@@ -141,9 +143,16 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
         }
         c.prepared.accelerator().intersectBatch(std::span<const Ray>(rays, count),
                                                 std::span<std::optional<Hit>>(hits, count));
-        c.integrator.radianceBatch(std::span<const Ray>(rays, count), std::span<const std::optional<Hit>>(hits, count),
-                                   std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count),
-                                   aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>(), counts);
+        const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();
+        if (c.path)
+            c.path->radianceBatch(std::span<const Ray>(rays, count), std::span<const std::optional<Hit>>(hits, count),
+                                  std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count), firstHits,
+                                  counts);
+        else
+            c.integrator.radianceBatch(std::span<const Ray>(rays, count),
+                                       std::span<const std::optional<Hit>>(hits, count),
+                                       std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count),
+                                       firstHits, counts);
         for (size_t i = 0; i < count; ++i) {
             c.film.addRadiance(filmIndex[i], radiance[i]);
             if (aovs) c.film.addAov(filmIndex[i], first[i].albedo, first[i].normal, first[i].depth);
@@ -171,9 +180,15 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     checkPass(settings, film, firstSample, sampleCount);
     const Camera camera(cameraDesc, settings.width, settings.height);
     Integrator integrator(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings);
-    integrator.setPixelSpread(2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height));
+    const float pixelSpread = 2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height);
+    integrator.setPixelSpread(pixelSpread);
+    std::optional<PathIntegrator> path;
+    if (settings.integrator == IntegratorKind::Path) {
+        path.emplace(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings);
+        path->setPixelSpread(pixelSpread);
+    }
     const PassContext context{prepared,    camera,      integrator, settings, film, film.window(), firstSample,
-                              sampleCount, cameraDesc.aperture > 0.f, control.cancel};
+                              sampleCount, cameraDesc.aperture > 0.f, control.cancel, path ? &*path : nullptr};
 
     const CropWindow& window = context.window;
     const int tile = settings.tileSize;
@@ -211,6 +226,10 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     stats.shadowRays = total.shadow;
     stats.reflectionRays = total.reflection;
     stats.nonFiniteSamples = total.nonFinite;
+    stats.transmissionRays = total.transmission;
+    stats.indirectRays = total.indirect;
+    stats.pathLengthSum = total.pathLengthSum;
+    stats.pathLengthMax = total.pathLengthMax;
     stats.invalidRays = prepared.accelerator().invalidRayCount() - invalidBefore;
     stats.threads = settings.threads > 0 ? settings.threads : hardwareThreads();
     result.cancelled = stopped.load();

@@ -85,13 +85,7 @@ FrameResult runCoordinator(const Job& job, int size, const std::function<void(st
         if (status.MPI_TAG == kTagDone) {
             WorkerTotals t;
             MPI_Recv(&t, int(sizeof t), MPI_BYTE, from, kTagDone, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            result.totals.cameraRays += t.cameraRays;
-            result.totals.shadowRays += t.shadowRays;
-            result.totals.reflectionRays += t.reflectionRays;
-            result.totals.invalidRays += t.invalidRays;
-            result.totals.nonFiniteSamples += t.nonFiniteSamples;
-            result.totals.tiles += t.tiles;
-            result.totals.renderSeconds += t.renderSeconds;
+            result.totals.add(t);
             --running;
             continue;
         }

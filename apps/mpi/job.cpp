@@ -1,5 +1,6 @@
 #include "job.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace penumbra::mpi {
@@ -18,6 +19,7 @@ struct JobWire {
     std::int32_t width, height, spp, lightSamples, maxDepth, threads, tileSize;
     std::int32_t hasCrop, x0, y0, x1, y1;
     std::int32_t lightSelection, aovs;
+    std::int32_t integrator;
     std::uint64_t seed;
     float eye[3], lookAt[3], up[3], vfov, aperture, focusDistance;
 };
@@ -95,6 +97,7 @@ std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank) {
         }
         w.lightSelection = s.lightSelection == pnb::LightSelection::Power ? 1 : 0;
         w.aovs = s.aovs ? 1 : 0;
+        w.integrator = s.integrator == pnb::IntegratorKind::Path ? 1 : 0;
         w.seed = s.seed;
         const pnb::Vec3* v[3] = {&c.eye, &c.lookAt, &c.up};
         float* d[3] = {w.eye, w.lookAt, w.up};
@@ -121,6 +124,7 @@ std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank) {
     if (w.hasCrop) s.crop = pnb::CropWindow{w.x0, w.y0, w.x1, w.y1};
     s.lightSelection = w.lightSelection ? pnb::LightSelection::Power : pnb::LightSelection::All;
     s.aovs = w.aovs != 0;
+    s.integrator = w.integrator ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
     s.seed = w.seed;
     pnb::Camera& c = job.camera;
     c.eye = {w.eye[0], w.eye[1], w.eye[2]};
@@ -141,6 +145,36 @@ std::string processorName() {
     int length = 0;
     MPI_Get_processor_name(name, &length);
     return std::string(name, size_t(length > 0 ? length : 0));
+}
+
+WorkerTotals totalsOf(const pnb::RenderStats& st) {
+    WorkerTotals t;
+    t.cameraRays = st.cameraRays;
+    t.shadowRays = st.shadowRays;
+    t.reflectionRays = st.reflectionRays;
+    t.invalidRays = st.invalidRays;
+    t.nonFiniteSamples = st.nonFiniteSamples;
+    t.tiles = 1;
+    t.renderSeconds = st.renderSeconds;
+    t.transmissionRays = st.transmissionRays;
+    t.indirectRays = st.indirectRays;
+    t.pathLengthSum = st.pathLengthSum;
+    t.pathLengthMax = st.pathLengthMax;
+    return t;
+}
+
+void WorkerTotals::add(const WorkerTotals& o) {
+    cameraRays += o.cameraRays;
+    shadowRays += o.shadowRays;
+    reflectionRays += o.reflectionRays;
+    invalidRays += o.invalidRays;
+    nonFiniteSamples += o.nonFiniteSamples;
+    tiles += o.tiles;
+    renderSeconds += o.renderSeconds;
+    transmissionRays += o.transmissionRays;
+    indirectRays += o.indirectRays;
+    pathLengthSum += o.pathLengthSum;
+    pathLengthMax = std::max(pathLengthMax, o.pathLengthMax);
 }
 
 }  // namespace penumbra::mpi

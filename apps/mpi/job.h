@@ -52,7 +52,15 @@ struct WorkerTotals {
     std::uint64_t cameraRays = 0, shadowRays = 0, reflectionRays = 0, invalidRays = 0, nonFiniteSamples = 0;
     std::uint64_t tiles = 0;
     double renderSeconds = 0.0;
+    std::uint64_t transmissionRays = 0, indirectRays = 0, pathLengthSum = 0;
+    std::uint32_t pathLengthMax = 0;
+
+    /// Adds one render call's (or one worker's) counts.
+    void add(const WorkerTotals& o);
 };
+
+/// One render call's counts as totals of one tile.
+WorkerTotals totalsOf(const pnb::RenderStats& st);
 
 /// "rank 2 on node7", for messages about another rank.
 std::string rankName(int rank, const std::string& host);

@@ -148,8 +148,12 @@ void writeStatsJson(const Options& o, const pnb::RenderSettings& s, const SetupR
     j["rays"] = {{"camera", t.cameraRays},
                  {"shadow", t.shadowRays},
                  {"reflection", t.reflectionRays},
-                 {"total", t.cameraRays + t.shadowRays + t.reflectionRays},
+                 {"transmission", t.transmissionRays},
+                 {"indirect", t.indirectRays},
+                 {"total", t.cameraRays + t.shadowRays + t.reflectionRays + t.transmissionRays + t.indirectRays},
                  {"invalid", t.invalidRays}};
+    j["path_length"] = {{"mean", t.cameraRays ? double(t.pathLengthSum) / double(t.cameraRays) : 0.0},
+                        {"max", t.pathLengthMax}};
     j["nonfinite_samples_dropped"] = t.nonFiniteSamples;
     j["peak_memory_mib_rank0"] = peakMemoryMiB();
     cli::writeStatistics(o.statsJson, j.dump(2) + "\n");
@@ -208,8 +212,7 @@ int run(int argc, char** argv, int rank, int size) {
         const auto r0 = std::chrono::steady_clock::now();
         const pnb::RenderStats st = renderer.render(setup.prepared, job->camera, settings, frame.image, control);
         frame.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
-        frame.totals = {st.cameraRays, st.shadowRays, st.reflectionRays, st.invalidRays, st.nonFiniteSamples, 1,
-                        st.renderSeconds};
+        frame.totals = totalsOf(st);
         frame.tilesPerRank = {1};
         frame.tileCount = 1;
     } else {
@@ -226,7 +229,8 @@ int run(int argc, char** argv, int rank, int size) {
 
     if (!o.quiet) {
         const WorkerTotals& t = frame.totals;
-        const double rays = double(t.cameraRays + t.shadowRays + t.reflectionRays);
+        const double rays =
+            double(t.cameraRays + t.shadowRays + t.reflectionRays + t.transmissionRays + t.indirectRays);
         std::string perRank;
         for (int r = (size == 1 ? 0 : 1); r < size; ++r)
             perRank += (perRank.empty() ? "" : ", ") + std::to_string(frame.tilesPerRank[size_t(r)]);

@@ -40,13 +40,7 @@ void runWorker(const pnb::Renderer& renderer, const pnb::PreparedScene& scene, c
             tile.crop = pnb::CropWindow{window[0], window[1], window[2], window[3]};
             pnb::Framebuffer image(tile);
             const pnb::RenderStats st = renderer.render(scene, job.camera, tile, image);
-            totals.cameraRays += st.cameraRays;
-            totals.shadowRays += st.shadowRays;
-            totals.reflectionRays += st.reflectionRays;
-            totals.invalidRays += st.invalidRays;
-            totals.nonFiniteSamples += st.nonFiniteSamples;
-            totals.renderSeconds += st.renderSeconds;
-            ++totals.tiles;
+            totals.add(totalsOf(st));
             bytes = image.serialize();
         } catch (const std::exception& e) {
             error = rankName(rank, host) + ": " + e.what();

@@ -99,7 +99,7 @@ std::string seedProblem(const std::string& v) {
 }
 
 ParseResult parseCommandLine(int argc, char** argv) {
-    CLI::App app{"penumbra: render an OBJ/MTL or JSON scene with Embree-accelerated Whitted ray tracing"};
+    CLI::App app{"penumbra: render an OBJ/MTL or JSON scene with Embree-accelerated Whitted ray tracing or path tracing"};
     Options o;
     std::string eye, lookAt, up, ambient, background, crop;
     int width = 0, height = 0, spp = 0, lightSamples = 0, maxDepth = 0, threads = 0, tileSize = 0;
@@ -108,6 +108,7 @@ ParseResult parseCommandLine(int argc, char** argv) {
     std::string lightSelection;
     std::string env;
     float envRotate = 0.f;
+    std::string integrator;
 
     app.add_option("scene", o.scene, "Scene file (.obj or .json)")->required();
     app.add_option("-o,--output", o.output, "Output image (.exr .hdr .pfm .png .jpg .tif)")->required();
@@ -115,7 +116,8 @@ ParseResult parseCommandLine(int argc, char** argv) {
     auto* oHeight = app.add_option("--height", height, "Image height in pixels");
     auto* oSpp = app.add_option("--spp", spp, "Camera samples per pixel (multi-jittered)");
     auto* oLs = app.add_option("--light-samples", lightSamples, "Area-light samples per light per shading point");
-    auto* oDepth = app.add_option("--max-depth", maxDepth, "Maximum mirror bounces (0 = no reflection rays)");
+    auto* oDepth = app.add_option("--max-depth", maxDepth,
+                                  "whitted: maximum mirror/refraction bounces (0 = none); path: maximum path length");
     auto* oSeed = app.add_option("--seed", seed, "Random seed")
                       ->check(CLI::Validator([](std::string& v) { return seedProblem(v); }, "UINT64"));
     auto* oThreads = app.add_option("--threads", threads, "Render threads (0 = all cores)");
@@ -134,6 +136,7 @@ ParseResult parseCommandLine(int argc, char** argv) {
     app.add_option("--light-selection", lightSelection, "all (every light, N samples each) or power");
     app.add_option("--exposure", o.exposure, "Exposure in stops for PNG/JPG/TIF output");
     app.add_flag("--aovs", o.aovs, "Also write albedo, normal and depth (EXR channels or <stem>.aovs.exr)");
+    app.add_option("--integrator", integrator, "whitted (default: direct light + mirrors + glass) or path (path tracing)");
     app.add_option("--stats-json", o.statsJson, "Write render statistics as JSON to this file");
     app.add_flag("--strict", o.strict, "Treat skippable scene problems as errors");
     app.add_flag("-q,--quiet", o.quiet, "No progress and no summary");
@@ -192,6 +195,11 @@ ParseResult parseCommandLine(int argc, char** argv) {
     } catch (const Error& e) {
         std::fprintf(stderr, "penumbra: error: %s (see --help)\n", e.what());
         return {std::nullopt, 2};
+    }
+    if (!integrator.empty()) {
+        if (integrator != "whitted" && integrator != "path")
+            throw Error(ErrorCode::InvalidArgument, "--integrator: expected whitted or path, got '" + integrator + "'");
+        o.integrator = integrator;
     }
     if (!std::isfinite(o.exposure)) throw Error(ErrorCode::InvalidArgument, "--exposure: must be finite");
     if (o.accel != "embree" && o.accel != "naive")

@@ -32,6 +32,7 @@ struct Options {
     std::optional<pnb::Color> envColor;
     std::optional<std::filesystem::path> envImage;
     std::optional<float> envRotate;
+    std::optional<std::string> integrator;  // "whitted" or "path"
 };
 
 /// Parses argv. Returns the options, or an exit code when parsing ended the

@@ -19,6 +19,7 @@ pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings s) {
         s.lightSelection = *o.lightSelection == "power" ? pnb::LightSelection::Power : pnb::LightSelection::All;
     s.crop = o.crop;
     s.aovs = o.aovs;
+    if (o.integrator) s.integrator = *o.integrator == "path" ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
     return s;
 }
 

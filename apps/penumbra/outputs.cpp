@@ -100,6 +100,7 @@ nlohmann::json statisticsHeader(const Options& o, const pnb::RenderSettings& s, 
     j["light_samples"] = s.lightSamples;
     j["max_depth"] = s.maxDepth;
     j["seed"] = s.seed;
+    j["integrator"] = s.integrator == pnb::IntegratorKind::Path ? "path" : "whitted";
     return j;
 }
 

@@ -85,8 +85,13 @@ void writeStatsJson(const fs::path& path, const Options& o, const pnb::RenderSet
     j["rays"] = {{"camera", st.cameraRays},
                  {"shadow", st.shadowRays},
                  {"reflection", st.reflectionRays},
-                 {"total", st.cameraRays + st.shadowRays + st.reflectionRays},
+                 {"transmission", st.transmissionRays},
+                 {"indirect", st.indirectRays},
+                 {"total", st.cameraRays + st.shadowRays + st.reflectionRays + st.transmissionRays + st.indirectRays},
                  {"invalid", st.invalidRays}};
+    // Rays traced along each camera sample's path, camera ray included (whitted: its deepest branch).
+    j["path_length"] = {{"mean", st.cameraRays ? double(st.pathLengthSum) / double(st.cameraRays) : 0.0},
+                        {"max", st.pathLengthMax}};
     j["nonfinite_samples_dropped"] = st.nonFiniteSamples;
     j["mrays_per_second"] = st.mraysPerSecond;
     j["peak_memory_mib"] = peakMemoryMiB();
@@ -173,6 +178,11 @@ int runSteps(const Options& o, std::string& step) {
                      prepared.accelerator().c_str(), prepared.buildSeconds(), stats.renderSeconds, stats.threads,
                      (unsigned long long)stats.cameraRays, (unsigned long long)stats.shadowRays,
                      (unsigned long long)stats.reflectionRays, stats.mraysPerSecond, peakMemoryMiB());
+        if (stats.transmissionRays || stats.indirectRays)
+            std::fprintf(stderr, "penumbra: rays: %llu transmission, %llu indirect; path length mean %.2f, max %u\n",
+                         (unsigned long long)stats.transmissionRays, (unsigned long long)stats.indirectRays,
+                         stats.cameraRays ? double(stats.pathLengthSum) / double(stats.cameraRays) : 0.0,
+                         stats.pathLengthMax);
         if (stats.nonFiniteSamples || stats.invalidRays)
             std::fprintf(stderr, "penumbra: dropped %llu non-finite samples, %llu invalid rays\n",
                          (unsigned long long)stats.nonFiniteSamples, (unsigned long long)stats.invalidRays);

@@ -44,7 +44,7 @@ SettingsPatch SceneReader::readRender(const Json& j, const std::string& ptr) con
     expectObject(j, ptr);
     checkKeys(j, ptr,
               {"width", "height", "spp", "light_samples", "max_depth", "seed", "threads", "tile_size",
-               "light_selection"});
+               "light_selection", "integrator"});
     SettingsPatch p;
     // The ranges are those of validateSettings, so a loaded patch always validates.
     auto intKey = [&](const char* key, std::optional<int>& dst, int64_t lo, int64_t hi) {
@@ -73,6 +73,16 @@ SettingsPatch SceneReader::readRender(const Json& j, const std::string& ptr) con
             p.lightSelection = LightSelection::Power;
         else
             fail(ErrorCode::InvalidScene, sp, "must be \"all\" or \"power\", got " + quotedValue(s));
+    }
+    if (const Json* v = find(j, "integrator")) {
+        std::string sp = child(ptr, "integrator");
+        std::string s = string(*v, sp);
+        if (s == "whitted")
+            p.integrator = IntegratorKind::Whitted;
+        else if (s == "path")
+            p.integrator = IntegratorKind::Path;
+        else
+            fail(ErrorCode::InvalidScene, sp, "must be \"whitted\" or \"path\", got " + quotedValue(s));
     }
     return p;
 }

@@ -39,9 +39,10 @@ void SceneReader::addMaterial(Material m, const std::string& ptr, Scene& scene) 
 Material SceneReader::readMaterial(const Json& j, const std::string& ptr, const std::string& name, bool named, Scene& scene) {
     expectObject(j, ptr);
     if (named)
-        checkKeys(j, ptr, {"name", "ka", "kd", "ks", "n", "exponent", "kr", "ke", "two_sided", "model", "texture"});
+        checkKeys(j, ptr,
+                  {"name", "ka", "kd", "ks", "n", "exponent", "kr", "ke", "two_sided", "model", "texture", "kt", "ior"});
     else
-        checkKeys(j, ptr, {"ka", "kd", "ks", "n", "exponent", "kr", "ke", "two_sided", "model", "texture"});
+        checkKeys(j, ptr, {"ka", "kd", "ks", "n", "exponent", "kr", "ke", "two_sided", "model", "texture", "kt", "ior"});
     Material m;
     m.name = name;
     if (const Json* v = find(j, "ka")) m.ka = colour(*v, child(ptr, "ka"));
@@ -49,6 +50,11 @@ Material SceneReader::readMaterial(const Json& j, const std::string& ptr, const 
     if (const Json* v = find(j, "ks")) m.ks = colour(*v, child(ptr, "ks"));
     if (const Json* v = find(j, "kr")) m.kr = colour(*v, child(ptr, "kr"));
     if (const Json* v = find(j, "ke")) m.ke = colour(*v, child(ptr, "ke"));
+    if (const Json* v = find(j, "kt")) m.kt = colour(*v, child(ptr, "kt"));
+    if (const Json* v = find(j, "ior")) {
+        m.ior = nonNegative(*v, child(ptr, "ior"));
+        if (!(m.ior > 0.f)) fail(ErrorCode::InvalidScene, child(ptr, "ior"), "must be > 0");
+    }
     const Json* n = find(j, "n");
     const Json* e = find(j, "exponent");
     if (n && e) fail(ErrorCode::ParseError, child(ptr, "exponent"), "\"n\" and \"exponent\" are the same key; give one");

@@ -64,11 +64,27 @@ Material MaterialConverter::convert(const MtlMaterial& t) {
                   rgbText(t.ambient) + "' to make it emit)");
 
     int illum = t.illum;
-    if (illum >= 3 && illum <= 9) {
+    const bool glassIllum = illum == 4 || illum == 6 || illum == 7;
+    bool tfClamped = false;
+    const Rgb tf = toRgb(t.transmittance, tfClamped);
+    if (glassIllum && tf.maxComponent() > 0.f) {
+        // Glass: Fresnel decides between reflection and refraction (shading/dielectric.h), so the
+        // MTL's Ks (the spec's reflection weight) is not used; Tf filters the refracted light.
+        m.kt = tf;
+        m.ks = Rgb(0.f);
+        if (tfClamped) log_.warn(where + ": negative or non-finite Tf values replaced by 0");
+        if (std::isfinite(t.ior) && t.ior > 0.f) {
+            m.ior = t.ior;
+        } else {
+            m.ior = 1.5f;
+            log_.warn(where + ": Ni " + std::to_string(t.ior) + " is not a positive number; using 1.5");
+        }
+    } else if (illum >= 3 && illum <= 9) {
         // The Ks of a reflecting material is the mirror's colour, not a highlight.
         m.kr = m.ks;
         m.ks = Rgb(0.f);
-        if (illum == 4 || illum == 6 || illum == 7 || illum == 9) note(transparentIllum_, where, illum);
+        if (glassIllum) note(opaqueGlass_, where, illum);
+        if (illum == 9) note(transparentIllum_, where, illum);
     } else if (illum < 0 || illum > 9) {
         note(unknownIllum_, where, illum);
     }
@@ -102,6 +118,9 @@ void MaterialConverter::flushWarnings() {
     if (!transparentIllum_.empty())
         log_.warn(name(obj_) + ": transparency/refraction is not supported (" + transparentIllum_ +
                   "); rendering the mirror part only");
+    if (!opaqueGlass_.empty())
+        log_.warn(name(obj_) + ": glass without a transmission colour (" + opaqueGlass_ +
+                  ": Tf is missing or 0); rendering the mirror part only (add 'Tf 1 1 1' for clear glass)");
     if (!unknownIllum_.empty()) log_.warn(name(obj_) + ": unknown illum model (" + unknownIllum_ + "); using lit Phong");
     for (const auto& [file, count] : unknownKeyCount_)
         if (count > kMaxUnknownKeyWarnings)

@@ -28,6 +28,8 @@ struct MtlMaterial {
     float specular[3] = {0.f, 0.f, 0.f};
     float emission[3] = {0.f, 0.f, 0.f};
     float shininess = 1.f;
+    float transmittance[3] = {0.f, 0.f, 0.f};  // Tf (or Kt)
+    float ior = 1.f;                           // Ni
     int illum = 0;
     std::vector<std::string> unknownKeys;  // sorted, each once
     std::string diffuseTexture;            // map_Kd as written
@@ -58,7 +60,7 @@ private:
     const LoadOptions& options_;
     const Logger& log_;
     std::optional<uint32_t> default_;
-    std::string transparentIllum_, unknownIllum_;
+    std::string transparentIllum_, unknownIllum_, opaqueGlass_;
     static constexpr size_t kMaxUnknownKeyWarnings = 5;
     std::set<std::pair<std::string, std::string>> unknownKeys_;
     std::map<std::string, size_t> unknownKeyCount_;

@@ -72,7 +72,9 @@ MtlMaterial copyOut(const tinyobj::material_t& t, const fs::path& file) {
         m.diffuse[i] = t.diffuse[i];
         m.specular[i] = t.specular[i];
         m.emission[i] = t.emission[i];
+        m.transmittance[i] = t.transmittance[i];
     }
+    m.ior = t.ior;
     m.shininess = t.shininess;
     m.illum = t.illum;
     for (const auto& kv : t.unknown_parameter) m.unknownKeys.push_back(kv.first);

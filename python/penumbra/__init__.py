@@ -18,6 +18,7 @@ from ._penumbra import (
     Error,
     ErrorCode,
     Framebuffer,
+    IntegratorKind,
     JobStatus,
     LightSelection,
     LogLevel,
@@ -37,7 +38,7 @@ from ._image import Image, png_bytes
 __version__ = version()
 
 __all__ = [
-    "BuildQuality", "Camera", "Error", "ErrorCode", "Framebuffer", "Image", "JobStatus", "LightSelection",
+    "BuildQuality", "Camera", "Error", "ErrorCode", "Framebuffer", "Image", "IntegratorKind", "JobStatus", "LightSelection",
     "LogLevel", "Material", "Matrix3x4", "PhongModel", "PreparedScene", "RenderJob", "Renderer",
     "RenderSettings", "RenderStats", "Scene", "png_bytes", "version",
 ]

@@ -81,6 +81,16 @@ pnb::LightSelection selectionFrom(const py::handle& value) {
     return value.cast<pnb::LightSelection>();
 }
 
+pnb::IntegratorKind integratorFrom(const py::handle& value) {
+    if (py::isinstance<py::str>(value)) {
+        const std::string s = value.cast<std::string>();
+        if (s == "whitted") return pnb::IntegratorKind::Whitted;
+        if (s == "path") return pnb::IntegratorKind::Path;
+        invalid("integrator must be 'whitted' or 'path', got '" + s + "'");
+    }
+    return value.cast<pnb::IntegratorKind>();
+}
+
 py::object cropTuple(const std::optional<pnb::CropWindow>& c) {
     if (!c) return py::none();
     return py::make_tuple(c->x0, c->y0, c->x1, c->y1);
@@ -95,7 +105,8 @@ std::string settingsRepr(const pnb::RenderSettings& s) {
         r += ", crop=(" + std::to_string(s.crop->x0) + ", " + std::to_string(s.crop->y0) + ", " +
              std::to_string(s.crop->x1) + ", " + std::to_string(s.crop->y1) + ")";
     r += std::string(", light_selection='") + (s.lightSelection == pnb::LightSelection::Power ? "power" : "all") + "'";
-    r += std::string(", aovs=") + (s.aovs ? "True" : "False") + ")";
+    r += std::string(", aovs=") + (s.aovs ? "True" : "False");
+    r += std::string(", integrator='") + (s.integrator == pnb::IntegratorKind::Path ? "path" : "whitted") + "')";
     return r;
 }
 
@@ -132,6 +143,7 @@ pnb::RenderSettings settingsWith(pnb::RenderSettings s, const py::kwargs& kwargs
         else if (k == "crop") s.crop = cropFrom(value);
         else if (k == "light_selection") s.lightSelection = selectionFrom(value);
         else if (k == "aovs") s.aovs = value.cast<bool>();
+        else if (k == "integrator") s.integrator = integratorFrom(value);
         else throw py::type_error("unexpected keyword argument '" + k + "'");
     }
     return s;
@@ -150,6 +162,9 @@ void bindValues(py::module_& m) {
     py::enum_<pnb::LightSelection>(m, "LightSelection")
         .value("All", pnb::LightSelection::All)
         .value("Power", pnb::LightSelection::Power);
+    py::enum_<pnb::IntegratorKind>(m, "IntegratorKind")
+        .value("Whitted", pnb::IntegratorKind::Whitted)
+        .value("Path", pnb::IntegratorKind::Path);
     py::enum_<pnb::BuildQuality>(m, "BuildQuality")
         .value("Low", pnb::BuildQuality::Low)
         .value("Medium", pnb::BuildQuality::Medium)
@@ -164,7 +179,7 @@ void bindValues(py::module_& m) {
     py::class_<pnb::Material>(m, "Material", "Phong material; colours are linear RGB triples (or one number: gray).")
         .def(py::init([](const pnb::Color& kd, const pnb::Color& ks, float exponent, const pnb::Color& kr,
                          const pnb::Color& ke, const pnb::Color& ka, bool twoSidedEmission, pnb::PhongModel model,
-                         std::string diffuseTexture, std::string name) {
+                         std::string diffuseTexture, std::string name, const pnb::Color& kt, float ior) {
                  pnb::Material mat;
                  mat.kd = kd;
                  mat.ks = ks;
@@ -176,12 +191,15 @@ void bindValues(py::module_& m) {
                  mat.model = model;
                  mat.diffuseTexture = std::move(diffuseTexture);
                  mat.name = std::move(name);
+                 mat.kt = kt;
+                 mat.ior = ior;
                  return mat;
              }),
              py::kw_only(), py::arg("kd") = dm.kd, py::arg("ks") = dm.ks, py::arg("exponent") = dm.exponent,
              py::arg("kr") = dm.kr, py::arg("ke") = dm.ke, py::arg("ka") = dm.ka,
              py::arg("two_sided_emission") = dm.twoSidedEmission, py::arg("model") = dm.model,
-             py::arg("diffuse_texture") = dm.diffuseTexture, py::arg("name") = dm.name)
+             py::arg("diffuse_texture") = dm.diffuseTexture, py::arg("name") = dm.name, py::arg("kt") = dm.kt,
+             py::arg("ior") = dm.ior)
         .def_readwrite("name", &pnb::Material::name)
         .def_readwrite("ka", &pnb::Material::ka, "ambient reflectance (times the scene's ambient light)")
         .def_readwrite("kd", &pnb::Material::kd, "diffuse albedo")
@@ -192,11 +210,14 @@ void bindValues(py::module_& m) {
         .def_readwrite("two_sided_emission", &pnb::Material::twoSidedEmission)
         .def_readwrite("model", &pnb::Material::model)
         .def_readwrite("diffuse_texture", &pnb::Material::diffuseTexture, "image multiplying kd through mesh UVs")
+        .def_readwrite("kt", &pnb::Material::kt, "transmission colour: non-zero makes the surface glass")
+        .def_readwrite("ior", &pnb::Material::ior, "index of refraction behind the front side (glass)")
         .def("__repr__", [](const pnb::Material& mat) {
             return "Material(name=" + std::string(py::repr(py::str(mat.name))) +
                    ", kd=" + std::string(py::repr(py::cast(mat.kd))) + ", ks=" + std::string(py::repr(py::cast(mat.ks))) +
                    ", exponent=" + std::string(py::repr(py::cast(mat.exponent))) +
                    ", kr=" + std::string(py::repr(py::cast(mat.kr))) + ", ke=" + std::string(py::repr(py::cast(mat.ke))) +
+                   ", kt=" + std::string(py::repr(py::cast(mat.kt))) + ", ior=" + std::string(py::repr(py::cast(mat.ior))) +
                    ")";
         });
 
@@ -232,7 +253,7 @@ void bindValues(py::module_& m) {
         .def_readwrite("height", &pnb::RenderSettings::height)
         .def_readwrite("spp", &pnb::RenderSettings::spp, "camera samples per pixel")
         .def_readwrite("light_samples", &pnb::RenderSettings::lightSamples, "area-light samples per light")
-        .def_readwrite("max_depth", &pnb::RenderSettings::maxDepth, "mirror bounces")
+        .def_readwrite("max_depth", &pnb::RenderSettings::maxDepth, "whitted: mirror/refraction bounces; path: path length")
         .def_readwrite("seed", &pnb::RenderSettings::seed)
         .def_readwrite("threads", &pnb::RenderSettings::threads, "0 = all cores")
         .def_readwrite("tile_size", &pnb::RenderSettings::tileSize)
@@ -244,6 +265,10 @@ void bindValues(py::module_& m) {
             "light_selection", [](const pnb::RenderSettings& s) { return s.lightSelection; },
             [](pnb::RenderSettings& s, const py::object& v) { s.lightSelection = selectionFrom(v); })
         .def_readwrite("aovs", &pnb::RenderSettings::aovs, "also accumulate albedo, normal and depth")
+        .def_property(
+            "integrator", [](const pnb::RenderSettings& s) { return s.integrator; },
+            [](pnb::RenderSettings& s, const py::object& v) { s.integrator = integratorFrom(v); },
+            "'whitted' (default) or 'path'")
         .def("replace", [](const pnb::RenderSettings& s, const py::kwargs& kw) { return settingsWith(s, kw); },
              "A copy with the given settings changed.")
         .def("validate", [](const pnb::RenderSettings& s) { pnb::validate(s); },
@@ -287,6 +312,11 @@ void bindValues(py::module_& m) {
         .def_readonly("mrays_per_second", &pnb::RenderStats::mraysPerSecond)
         .def_readonly("samples_per_pixel", &pnb::RenderStats::samplesPerPixel)
         .def_readonly("threads", &pnb::RenderStats::threads)
+        .def_readonly("transmission_rays", &pnb::RenderStats::transmissionRays)
+        .def_readonly("indirect_rays", &pnb::RenderStats::indirectRays)
+        .def_readonly("path_length_sum", &pnb::RenderStats::pathLengthSum,
+                      "rays along each camera sample's path, summed (mean = path_length_sum / camera_rays)")
+        .def_readonly("path_length_max", &pnb::RenderStats::pathLengthMax)
         .def("__repr__", [](const pnb::RenderStats& s) {
             return "RenderStats(camera_rays=" + std::to_string(s.cameraRays) +
                    ", shadow_rays=" + std::to_string(s.shadowRays) +

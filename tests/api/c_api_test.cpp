@@ -144,6 +144,12 @@ TEST(CApi, BadScenesAndFilesNameTheProblem) {
     EXPECT_NE(lastError().find("disk radius"), std::string::npos) << lastError();
     pnb_material m;
     pnb_material_init(&m);
+    EXPECT_EQ(m.ior, pnb::Material{}.ior);  // glass fields come from the C++ defaults
+    EXPECT_EQ(m.kt.r, 0.f);
+    m.ior = 0.f;
+    EXPECT_EQ(pnb_scene_add_material(f.scene, &m, nullptr), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(lastError().find("ior must be finite and > 0"), std::string::npos) << lastError();
+    pnb_material_init(&m);
     setRaw(m.model, 5);
     EXPECT_EQ(pnb_scene_add_material(f.scene, &m, nullptr), PNB_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(lastError().find("is not a pnb_phong_model"), std::string::npos) << lastError();
@@ -191,6 +197,11 @@ TEST(CApi, BadSettingsAreRejectedBeforeAnyWork) {
     setRaw(s.light_selection, 7);
     EXPECT_EQ(pnb_render(f.renderer, f.prepared, &f.camera, &s, f.image, nullptr, nullptr), PNB_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(lastError().find("light_selection 7"), std::string::npos) << lastError();
+    s = f.settings;
+    EXPECT_EQ(s.integrator, PNB_INTEGRATOR_WHITTED);
+    setRaw(s.integrator, 9);
+    EXPECT_EQ(pnb_render(f.renderer, f.prepared, &f.camera, &s, f.image, nullptr, nullptr), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(lastError().find("integrator 9 is not a pnb_integrator"), std::string::npos) << lastError();
     pnb_camera cam = f.camera;
     cam.vfov_degrees = 0.f;
     EXPECT_EQ(pnb_camera_validate(&cam), PNB_ERROR_INVALID_ARGUMENT);

@@ -601,6 +601,7 @@ TEST_F(BadOption, AcceleratorAndFormats) {
     expectRefused("--accel kdtree", {"--accel", "unknown accelerator 'kdtree'"});
     expectRefused("--build-quality ultra", {"--build-quality"});
     expectRefused("--light-selection random", {"--light-selection"});
+    expectRefused("--integrator bdpt", {"--integrator", "expected whitted or path, got 'bdpt'"});
     SCOPED_TRACE("output formats");
     expectCleanFailure(run(in("scene.obj") + " -o " + shellQuote((out_ / "x.bmp").string())),
                        {"x.bmp", "unknown image format '.bmp'"});

@@ -504,9 +504,38 @@ TEST(ObjMaterials, MirrorIllumModels) {
     const Material* m1 = findMaterial(l.scene, "m1");
     expectRgb(m1->kr, 0, 0, 0);
     expectRgb(m1->ks, 0.1f, 0.1f, 0.1f);  // illum 0-2: lit Phong with the given Ks
-    // One warning for the file, naming the transparent materials (4 and 7) but not 5.
-    EXPECT_EQ(log.warnings({"mir.obj", "transparency/refraction", "m7", "m4"}), 1u) << log.all();
+    // Glass illum models without Tf cannot transmit: one warning for the file, naming 4 and 7 but not 5.
+    EXPECT_EQ(log.warnings({"mir.obj", "glass without a transmission colour", "m7", "m4"}), 1u) << log.all();
     EXPECT_EQ(log.warnings({"m5"}), 0u) << log.all();
+    EXPECT_EQ(log.warnings(), 1u) << log.all();
+}
+
+TEST(ObjMaterials, GlassIllumModelsWithTfBecomeDielectrics) {
+    fs::path dir = tempDir();
+    writeFile(dir / "glass.mtl",
+              "newmtl g7\nKd 0.01 0.01 0.01\nKs 0.3 0.3 0.3\nTf 0.9 0.8 0.7\nNi 1.33\nNs 200\nillum 7\n"
+              "newmtl g4\nTf 1 1 1\nNi 2.5\nillum 4\n"
+              "newmtl g6\nKt 0.5 0.5 0.5\nillum 6\n"
+              "newmtl g9\nKs 0.5 0.5 0.5\nTf 1 1 1\nNi 1.5\nillum 9\n");
+    auto obj = writeFile(dir / "glass.obj", "mtllib glass.mtl\n" + std::string(kUnitQuad) + "usemtl g7\nf 1 2 3\n");
+    LogCapture log;
+    Loaded l = load(obj, log);
+    const Material* g7 = findMaterial(l.scene, "g7");
+    ASSERT_NE(g7, nullptr);
+    EXPECT_TRUE(g7->isDielectric());
+    expectRgb(g7->kt, 0.9f, 0.8f, 0.7f);
+    EXPECT_FLOAT_EQ(g7->ior, 1.33f);
+    expectRgb(g7->kr, 0, 0, 0);  // Fresnel decides the reflection
+    expectRgb(g7->ks, 0, 0, 0);
+    expectRgb(g7->kd, 0.01f, 0.01f, 0.01f);
+    EXPECT_FLOAT_EQ(findMaterial(l.scene, "g4")->ior, 2.5f);
+    EXPECT_TRUE(findMaterial(l.scene, "g4")->isDielectric());
+    EXPECT_TRUE(findMaterial(l.scene, "g6")->isDielectric());  // Kt is Tf's other name
+    EXPECT_FLOAT_EQ(findMaterial(l.scene, "g6")->ior, 1.f);    // no Ni: tinyobjloader's 1
+    // illum 9 (glass without ray-traced refraction) stays a mirror, with the warning.
+    EXPECT_FALSE(findMaterial(l.scene, "g9")->isDielectric());
+    EXPECT_TRUE(findMaterial(l.scene, "g9")->isMirror());
+    EXPECT_EQ(log.warnings({"glass.obj", "transparency/refraction", "g9"}), 1u) << log.all();
     EXPECT_EQ(log.warnings(), 1u) << log.all();
 }
 
@@ -842,13 +871,17 @@ TEST(SharedScenes, McGuireCornellMirrorHasAMirror) {
     EXPECT_EQ(emitters(s.scene).triangles, 2u);
 }
 
-TEST(SharedScenes, McGuireSphereWarnsAboutGlass) {
+TEST(SharedScenes, McGuireSphereHasGlass) {
     fs::path obj = test::sharedScenePath("cornell_mcguire/CornellBox-Sphere.obj");
     if (obj.empty()) GTEST_SKIP() << "../shared/scenes not present";
     LogCapture log;
     LoadedScene s = loadObjScene(obj, {}, log.logger);
-    EXPECT_EQ(log.warnings({"transparency/refraction", "rightSphere"}), 1u) << log.all();
+    EXPECT_EQ(log.warnings({"transparency/refraction"}), 0u) << log.all();
     EXPECT_TRUE(findMaterial(s.scene, "leftSphere")->isMirror());
+    const Material* glass = findMaterial(s.scene, "rightSphere");
+    EXPECT_TRUE(glass->isDielectric());
+    EXPECT_FLOAT_EQ(glass->ior, 2.5f);
+    expectRgb(glass->kt, 0.1f, 0.1f, 0.1f);
 }
 
 TEST(SharedScenes, McGuireGlossyHasNoEmitterAndWarnsAboutLight) {

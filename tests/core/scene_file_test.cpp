@@ -240,6 +240,22 @@ TEST(SceneFile, MaterialKeAndTwoSided) {
     EXPECT_TRUE(m.isEmissive());
 }
 
+TEST(SceneFile, MaterialGlass) {
+    Material m = loadText(R"({"materials": {"m": {"kd": 0, "kt": [0.9, 0.8, 0.7], "ior": 1.33}}})").scene.materials[0];
+    EXPECT_EQ(m.kt, Rgb(0.9f, 0.8f, 0.7f));
+    EXPECT_FLOAT_EQ(m.ior, 1.33f);
+    EXPECT_TRUE(m.isDielectric());
+    Material d = loadText(R"({"materials": {"m": {"kd": 0.5}}})").scene.materials[0];
+    EXPECT_FALSE(d.isDielectric());
+    EXPECT_FLOAT_EQ(d.ior, 1.5f);
+}
+
+TEST(SceneFile, RenderIntegrator) {
+    EXPECT_EQ(loadText(R"({"render": {"integrator": "path"}})").settings.integrator, IntegratorKind::Path);
+    EXPECT_EQ(loadText(R"({"render": {"integrator": "whitted"}})").settings.integrator, IntegratorKind::Whitted);
+    EXPECT_FALSE(loadText(R"({"render": {}})").settings.integrator);
+}
+
 TEST(SceneFile, MaterialModel) {
     LoadedScene s = loadText(R"({"materials": {"c": {"model": "classic"}, "n": {"model": "normalized"}}})");
     EXPECT_EQ(s.scene.materials[0].model, PhongModel::Classic);
@@ -736,6 +752,10 @@ TEST(SceneFileErrors, RenderOutOfRange) {
     expectError(R"({"render": {"seed": -1}})", ErrorCode::InvalidScene, {"/render/seed"});
     expectError(R"({"render": {"light_selection": "random"}})", ErrorCode::InvalidScene,
                 {"/render/light_selection", "\"all\" or \"power\""});
+    expectError(R"({"render": {"integrator": "bdpt"}})", ErrorCode::InvalidScene,
+                {"/render/integrator", "\"whitted\" or \"path\""});
+    expectError(R"({"materials": {"g": {"kt": 1, "ior": 0}}})", ErrorCode::InvalidScene, {"/materials/g/ior", "> 0"});
+    expectError(R"({"materials": {"g": {"kt": -1}}})", ErrorCode::InvalidScene, {"/materials/g/kt"});
 }
 
 TEST(SceneFileErrors, UnknownShapeAndLightType) {

@@ -139,6 +139,24 @@ TEST(MpiRender, ThreeRanksGiveTheSingleProcessImageBitForBit) {
     EXPECT_NE(r.output.find("on 3 rank(s)"), std::string::npos) << r.output;
 }
 
+TEST(MpiRender, PathIntegratorTravelsToTheWorkersAndMatchesBitForBit) {
+    REQUIRE_MPI();
+    const fs::path dir = test::tempDir();
+    const fs::path scene = smallScene(dir);
+    ASSERT_EQ(runCommand(penumbraCli() + " " + scene.string() + " -q --integrator path -o " + (dir / "one.pfm").string())
+                  .exitCode,
+              0);
+    const RunResult r = runCommand(mpirun("-np 3 " + penumbraMpi() + " " + scene.string() +
+                                          " -q --integrator path --stats-json " + (dir / "s.json").string() + " -o " +
+                                          (dir / "mpi.pfm").string()));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(readBytes(dir / "one.pfm"), readBytes(dir / "mpi.pfm"));
+    const std::string stats = readBytes(dir / "s.json");
+    EXPECT_NE(stats.find("\"integrator\": \"path\""), std::string::npos) << stats;
+    EXPECT_NE(stats.find("\"indirect\""), std::string::npos) << stats;
+    EXPECT_NE(stats.find("\"path_length\""), std::string::npos) << stats;
+}
+
 TEST(MpiRender, CropWithAovsOverTwoAndThreeRanksMatchesTheSingleProcessExr) {
     REQUIRE_MPI();
     const fs::path dir = test::tempDir();

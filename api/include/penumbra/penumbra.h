@@ -97,6 +97,8 @@ typedef struct pnb_material {
     int two_sided_emission;
     pnb_phong_model model;
     const char* diffuse_texture;   /* image path multiplying kd through mesh UVs; NULL = none */
+    pnb_color kt;                  /* transmission colour: non-zero makes the surface glass (a dielectric) */
+    float ior;                     /* index of refraction behind the front side (used when kt is non-zero) */
 } pnb_material;
 
 /* A triangle mesh in host arrays (copied by pnb_scene_add_mesh); fill with pnb_mesh_desc_init first. */
@@ -121,12 +123,14 @@ typedef struct pnb_camera {
 
 typedef enum pnb_light_selection { PNB_LIGHTS_ALL = 0, PNB_LIGHTS_POWER = 1 } pnb_light_selection;
 
+typedef enum pnb_integrator { PNB_INTEGRATOR_WHITTED = 0, PNB_INTEGRATOR_PATH = 1 } pnb_integrator;
+
 /* Fill with pnb_render_settings_init first. */
 typedef struct pnb_render_settings {
     int width, height;
     int spp;           /* camera samples per pixel */
     int light_samples; /* area-light samples per light per shading point */
-    int max_depth;     /* mirror bounces */
+    int max_depth;     /* whitted: mirror/refraction bounces; path: path length */
     uint64_t seed;
     int threads;       /* 0 = all cores */
     int tile_size;
@@ -134,6 +138,7 @@ typedef struct pnb_render_settings {
     int crop_x0, crop_y0, crop_x1, crop_y1;
     pnb_light_selection light_selection;
     int aovs;          /* nonzero: framebuffers also hold albedo, normal, depth */
+    pnb_integrator integrator;
 } pnb_render_settings;
 
 typedef struct pnb_load_options {
@@ -167,6 +172,9 @@ typedef struct pnb_render_stats {
     double render_seconds, mrays_per_second;
     uint32_t samples_per_pixel;
     int threads;
+    uint64_t transmission_rays, indirect_rays;
+    uint64_t path_length_sum; /* rays along each camera sample's path, summed (mean = sum / camera_rays) */
+    uint32_t path_length_max;
 } pnb_render_stats;
 
 /* Hooks for a synchronous render; fill with zeros or pnb_render_callbacks_init. progress gets the

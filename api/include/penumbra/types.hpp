@@ -107,6 +107,10 @@ struct Material {
     bool twoSidedEmission = false;
     PhongModel model = PhongModel::Normalized;
     std::string diffuseTexture;  ///< image multiplying kd through the mesh UVs; empty = none
+    /// Transmission colour: non-zero makes the surface a smooth dielectric (glass) whose
+    /// Fresnel reflection replaces kr and whose refracted light is scaled by kt.
+    Color kt{0.f, 0.f, 0.f};
+    float ior = 1.5f;  ///< index of refraction behind the front side (outside is 1); used when kt > 0
 };
 
 // ---------------------------------------------------------------- render settings
@@ -122,6 +126,12 @@ constexpr bool operator==(const CropWindow& a, const CropWindow& b) {
 }
 constexpr bool operator!=(const CropWindow& a, const CropWindow& b) { return !(a == b); }
 
+/// How radiance is estimated (docs/rendering.md).
+enum class IntegratorKind {
+    Whitted,  ///< direct light + ambient + mirror and refracted rays (the lecture's model)
+    Path,     ///< path tracing: indirect light, next-event estimation with MIS, Russian roulette
+};
+
 enum class LightSelection {
     All,    ///< every light gets lightSamples samples at every shading point
     Power,  ///< lightSamples samples in total, lights picked in proportion to power
@@ -134,7 +144,7 @@ struct RenderSettings {
     int height = 512;
     int spp = 16;           ///< camera samples per pixel (multi-jittered)
     int lightSamples = 4;   ///< area-light samples per light per shading point (multi-jittered)
-    int maxDepth = 10;      ///< mirror bounces; 0 = no reflection rays
+    int maxDepth = 10;      ///< whitted: mirror/refraction bounces (0 = none); path: path length in bounces
     std::uint64_t seed = 0;
     int threads = 0;        ///< 0 = all cores; each render runs in its own TBB arena
     int tileSize = 16;
@@ -143,6 +153,7 @@ struct RenderSettings {
     /// Also accumulate albedo, normal and depth of the first hit. Off unless
     /// asked for (the CLI's --aovs, docs/embedding.md): it costs memory.
     bool aovs = false;
+    IntegratorKind integrator = IntegratorKind::Whitted;
 };
 
 // ---------------------------------------------------------------- rendering
@@ -156,6 +167,12 @@ struct RenderStats {
     double mraysPerSecond = 0.0;
     std::uint32_t samplesPerPixel = 0;   ///< in the framebuffer after the call
     int threads = 0;
+    std::uint64_t transmissionRays = 0;  ///< refracted rays through dielectrics (both integrators)
+    std::uint64_t indirectRays = 0;      ///< path: diffuse and glossy bounce rays
+    /// Path lengths: rays traced along each camera sample's path (camera ray included;
+    /// whitted: its deepest branch). Sum over samples (mean = pathLengthSum / cameraRays) and maximum.
+    std::uint64_t pathLengthSum = 0;
+    std::uint32_t pathLengthMax = 0;
 };
 
 // ---------------------------------------------------------------- preparing

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -84,7 +85,7 @@ private:
     Rectangle rectangle(const Json& j, const std::string& ptr) const;
     Disk disk(const Json& j, const std::string& ptr) const;
 
-    // ---- meshes (OBJ files and inline) (json_meshes.cpp)
+    // ---- meshes (model files and inline) (json_meshes.cpp)
     void readObjMesh(const Json& j, const std::string& ptr, Scene& scene);
     /// Numbers of an array given either nested ([[x, y, z], ...]) or flat
     /// ([x, y, z, ...]), flattened; T is float (finite numbers) or uint32_t (indices).
@@ -105,6 +106,10 @@ private:
     const LoadOptions& options_;
     const Logger& log_;
     std::map<std::string, uint32_t> names_;  // JSON material name -> Scene::materials index
+    // What model files named by meshes say of the view and the lights.
+    std::optional<CameraDesc> modelCamera_;
+    std::vector<PointLight> modelPointLights_;
+    std::vector<DirectionalLight> modelDirectionalLights_;
 };
 
 }  // namespace penumbra

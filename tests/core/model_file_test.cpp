@@ -1,0 +1,225 @@
+// Model files through Assimp (core/io/model_file.h, assimp_loader.h): glTF
+// materials, camera and lights, a referenced .bin read through the path
+// policy, STL and PLY (vertex colours), the --model and smoothing options,
+// unknown and malformed files, and the Stanford bunny (skipped without ../shared).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/io/scene_loader.h"
+#include "support/test_support.h"
+
+namespace penumbra {
+namespace {
+namespace fs = std::filesystem;
+
+struct Quiet {
+    std::vector<std::string> warnings;
+    Logger logger{[this](LogLevel level, std::string_view msg) {
+                      if (level == LogLevel::Warning) warnings.emplace_back(msg);
+                  },
+                  LogLevel::Debug};
+};
+
+/// The material of the mesh whose name contains `name`.
+const Material& materialOf(const Scene& s, const std::string& name) {
+    for (const TriangleMesh& m : s.meshes)
+        if (m.name.find(name) != std::string::npos) return s.materials.at(m.material);
+    throw std::runtime_error("no mesh named " + name);
+}
+
+std::string errorOf(const fs::path& file, const LoadOptions& options = {}) {
+    Quiet q;
+    try {
+        loadScene(file, options, q.logger);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(ModelFile, GltfMaterialsCameraAndLight) {
+    const fs::path dir = test::tempDir();
+    const fs::path file = test::writeFile(dir / "quads.gltf", test::twoQuadsGltf());
+    Quiet q;
+    LoadedScene s = loadScene(file, {}, q.logger);
+    EXPECT_TRUE(q.warnings.empty()) << q.warnings.front();
+    EXPECT_EQ(s.scene.triangleCount(), 4u);
+
+    const Material& glow = materialOf(s.scene, "lamp");
+    EXPECT_TRUE(glow.isEmissive());
+    EXPECT_FLOAT_EQ(glow.ke.r, 1.f);
+    EXPECT_FLOAT_EQ(glow.ke.g, 0.5f);
+    EXPECT_FLOAT_EQ(glow.ke.b, 0.25f);
+    EXPECT_FLOAT_EQ(glow.kd.r, 0.f);
+
+    // Base colour less the dielectric's 4%; F0 = 0.04 as ks; roughness 1 is the broadest lobe.
+    const Material& clay = materialOf(s.scene, "card");
+    EXPECT_FALSE(clay.isEmissive());
+    EXPECT_NEAR(clay.kd.r, 0.96f * 0.8f, 1e-6f);
+    EXPECT_NEAR(clay.kd.g, 0.96f * 0.4f, 1e-6f);
+    EXPECT_NEAR(clay.kd.b, 0.96f * 0.2f, 1e-6f);
+    EXPECT_NEAR(clay.ks.r, 0.04f, 1e-6f);
+    EXPECT_FLOAT_EQ(clay.exponent, 1.f);
+    EXPECT_EQ(clay.model, PhongModel::Normalized);
+
+    ASSERT_EQ(s.scene.pointLights.size(), 1u);
+    EXPECT_NEAR(s.scene.pointLights[0].position.x, 1.25f, 1e-6f);
+    EXPECT_NEAR(s.scene.pointLights[0].position.z, 2.f, 1e-6f);
+    EXPECT_NEAR(s.scene.pointLights[0].intensity.g, 4.f, 1e-5f);
+
+    ASSERT_TRUE(s.camera.has_value());
+    EXPECT_NEAR(s.camera->eye.z, 5.f, 1e-6f);
+    EXPECT_NEAR(s.camera->lookAt.z, 4.f, 1e-6f);
+    EXPECT_NEAR(s.camera->vfovDegrees, 0.8f * 180.f / kPi, 1e-3f);
+}
+
+TEST(ModelFile, ModelAndSmoothingOptions) {
+    const fs::path dir = test::tempDir();
+    const fs::path file = test::writeFile(dir / "quads.gltf", test::twoQuadsGltf());
+    LoadOptions classic;
+    classic.meshModel = PhongModel::Classic;
+    Quiet q;
+    LoadedScene s = loadScene(file, classic, q.logger);
+    EXPECT_EQ(materialOf(s.scene, "card").model, PhongModel::Classic);
+    // Flat quads: smoothing gives them their face normal; 0 leaves them without normals.
+    for (const TriangleMesh& m : s.scene.meshes) {
+        ASSERT_EQ(m.normals.size(), m.positions.size());
+        for (const Vec3f& n : m.normals) EXPECT_NEAR(n.z, 1.f, 1e-6f);
+    }
+    LoadOptions faceted;
+    faceted.smoothAngleDegrees = 0.f;
+    LoadedScene f = loadScene(file, faceted, q.logger);
+    for (const TriangleMesh& m : f.scene.meshes) EXPECT_TRUE(m.normals.empty());
+}
+
+TEST(ModelFile, ReferencedBufferIsReadThroughThePathPolicy) {
+    const fs::path dir = test::tempDir();
+    test::writeFile(dir / "scene" / "quads.bin", test::twoQuadsBuffer());
+    const fs::path file = test::writeFile(dir / "scene" / "quads.gltf", test::twoQuadsGltf("quads.bin"));
+    std::vector<fs::path> reads;
+    LoadOptions watch;
+    watch.noticeRoots = {fs::path("/nonexistent-root")};
+    watch.onReadOutside = [&](const fs::path& p) { reads.push_back(p); };
+    Quiet q;
+    EXPECT_EQ(loadScene(file, watch, q.logger).scene.triangleCount(), 4u);
+    ASSERT_EQ(reads.size(), 2u) << "the model and its buffer, each once";
+    EXPECT_EQ(reads[1].filename(), "quads.bin");
+
+    // A buffer outside the allowed folders is refused, and the error names it.
+    test::writeFile(dir / "outside.bin", test::twoQuadsBuffer());
+    test::writeFile(dir / "scene" / "escape.gltf", test::twoQuadsGltf("../outside.bin"));
+    LoadOptions confined;
+    confined.allowedRoots = {dir / "scene"};
+    const std::string e = errorOf(dir / "scene" / "escape.gltf", confined);
+    EXPECT_NE(e.find("escape.gltf"), std::string::npos) << e;
+    EXPECT_NE(e.find("outside.bin"), std::string::npos) << e;
+    EXPECT_NE(e.find("outside the allowed directories"), std::string::npos) << e;
+    // A missing buffer names the model and the buffer.
+    test::writeFile(dir / "scene" / "lost.gltf", test::twoQuadsGltf("lost.bin"));
+    const std::string lost = errorOf(dir / "scene" / "lost.gltf");
+    EXPECT_NE(lost.find("lost.gltf"), std::string::npos) << lost;
+    EXPECT_NE(lost.find("lost.bin"), std::string::npos) << lost;
+}
+
+TEST(ModelFile, StlAndPlyWithVertexColours) {
+    const fs::path dir = test::tempDir();
+    const fs::path stl = test::writeFile(dir / "quad.stl", R"(solid quad
+facet normal 0 0 1
+ outer loop
+  vertex 0 0 0
+  vertex 1 0 0
+  vertex 1 1 0
+ endloop
+endfacet
+facet normal 0 0 1
+ outer loop
+  vertex 0 0 0
+  vertex 1 1 0
+  vertex 0 1 0
+ endloop
+endfacet
+endsolid quad
+)");
+    Quiet q;
+    LoadedScene s = loadScene(stl, {}, q.logger);
+    EXPECT_EQ(s.scene.triangleCount(), 2u);
+    EXPECT_FALSE(s.camera.has_value());
+
+    // Per-vertex red and blue: each triangle's kd is the material's times its corners' mean colour.
+    const fs::path ply = test::writeFile(dir / "colours.ply", R"(ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+property uchar red
+property uchar green
+property uchar blue
+element face 2
+property list uchar int vertex_indices
+end_header
+0 0 0 255 0 0
+1 0 0 255 0 0
+1 1 0 255 0 0
+0 1 0 0 0 255
+3 0 1 2
+3 0 2 3
+)");
+    LoadedScene p = loadScene(ply, {}, q.logger);
+    ASSERT_EQ(p.scene.meshes.size(), 1u);
+    const TriangleMesh& m = p.scene.meshes[0];
+    ASSERT_EQ(m.faceMaterials.size(), 2u);
+    const Material& red = p.scene.materials[m.faceMaterials[0]];
+    const Material& mixed = p.scene.materials[m.faceMaterials[1]];
+    const Material& base = p.scene.materials[m.material];
+    EXPECT_GT(base.kd.r, 0.f);
+    EXPECT_NEAR(red.kd.r, base.kd.r, 1e-6f);
+    EXPECT_EQ(red.kd.g, 0.f);
+    EXPECT_EQ(red.kd.b, 0.f);
+    EXPECT_NEAR(mixed.kd.r, base.kd.r * 170.f / 255.f, 1e-5f);  // (255 + 255 + 0) / 3
+    EXPECT_NEAR(mixed.kd.b, base.kd.b * 85.f / 255.f, 1e-5f);
+}
+
+TEST(ModelFile, UnknownMalformedAndEmptyFilesAreErrorsNamingTheFile) {
+    const fs::path dir = test::tempDir();
+    test::writeFile(dir / "scene.xyz", "whatever\n");
+    std::string e = errorOf(dir / "scene.xyz");
+    EXPECT_NE(e.find("scene.xyz: unknown scene format '.xyz'"), std::string::npos) << e;
+    for (const char* ext : {".json", ".obj", ".ply", ".stl", ".gltf", ".glb", ".fbx", ".dae"})
+        EXPECT_NE(e.find(ext), std::string::npos) << ext << " missing from: " << e;
+
+    struct Case {
+        const char* name;
+        std::string text;
+    };
+    const Case cases[] = {{"broken.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n"},
+                          {"broken.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [{\"primitives\": 7}]}"},
+                          {"garbage.glb", std::string("glTF\x02\0\0\0\xff\xff\xff\x7f", 12)},
+                          {"garbage.fbx", std::string(300, '\x17')},
+                          {"empty.stl", ""},
+                          {"notriangles.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                              "property float z\nend_header\n0 0 0\n"}};
+    for (const Case& c : cases) {
+        test::writeFile(dir / c.name, c.text);
+        const std::string err = errorOf(dir / c.name);
+        EXPECT_NE(err.find((dir / c.name).string()), std::string::npos) << c.name << ": " << err;
+        EXPECT_EQ(err.find('\n'), std::string::npos) << err;
+    }
+}
+
+TEST(SharedScenes, StanfordBunnyPlyHasAllItsTriangles) {
+    const fs::path ply = test::sharedScenePath("bunny_stanford/bun_zipper.ply");
+    if (ply.empty()) GTEST_SKIP() << "../shared/scenes not present";
+    Quiet q;
+    LoadedScene s = loadScene(ply, {}, q.logger);
+    EXPECT_EQ(s.scene.triangleCount(), 69451u);
+    ASSERT_EQ(s.scene.meshes.size(), 1u);
+    EXPECT_EQ(s.scene.meshes[0].normals.size(), s.scene.meshes[0].positions.size()) << "smoothed";
+}
+
+}  // namespace
+}  // namespace penumbra

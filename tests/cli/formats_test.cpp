@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -170,6 +171,52 @@ TEST(Formats, StlWrittenHereRenders) {
     // On its own, from the command line.
     r = runPenumbra(quote(dir / "quad.stl") + " -q --width 8 --height 8 --spp 1 -o " + quote(dir / "alone.exr"));
     EXPECT_EQ(r.exitCode, 0) << r.output;
+}
+
+// A sphere-like OBJ without normals: smooth (the default 30 degrees) shading
+// varies continuously across a facet; --smooth-angle 0 shades each facet flat.
+TEST(Formats, SmoothAngleSmoothsAFacetedSphereAndZeroKeepsItFaceted) {
+    const fs::path dir = test::tempDir();
+    std::string obj;
+    const int rings = 8, segments = 16;
+    auto index = [&](int i, int j) { return 2 + (i - 1) * segments + (j % segments); };
+    obj += "v 0 1 0\nv 0 -1 0\n";
+    for (int i = 1; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const double theta = M_PI * i / rings, phi = 2 * M_PI * j / segments;
+            obj += "v " + std::to_string(std::sin(theta) * std::cos(phi)) + " " + std::to_string(std::cos(theta)) + " " +
+                   std::to_string(-std::sin(theta) * std::sin(phi)) + "\n";
+        }
+    for (int j = 0; j < segments; ++j) {
+        obj += "f 1 " + std::to_string(index(1, j)) + " " + std::to_string(index(1, j + 1)) + "\n";
+        obj += "f 2 " + std::to_string(index(rings - 1, j + 1)) + " " + std::to_string(index(rings - 1, j)) + "\n";
+        for (int i = 1; i + 1 < rings; ++i)
+            obj += "f " + std::to_string(index(i, j)) + " " + std::to_string(index(i + 1, j)) + " " +
+                   std::to_string(index(i + 1, j + 1)) + " " + std::to_string(index(i, j + 1)) + "\n";
+    }
+    test::writeFile(dir / "ball.obj", obj);
+    test::writeFile(dir / "ball.json", R"({
+      "camera": {"eye": [0, 0, 4], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 35},
+      "shapes": [{"type": "mesh", "file": "ball.obj"}],
+      "lights": [{"type": "directional", "direction": [0, 0, -1], "irradiance": 3}]
+    })");
+    const std::string common = " -q --width 48 --height 48 --spp 1 -o ";
+    ASSERT_EQ(runPenumbra(quote(dir / "ball.json") + common + quote(dir / "smooth.exr")).exitCode, 0);
+    ASSERT_EQ(runPenumbra(quote(dir / "ball.json") + " --smooth-angle 0" + common + quote(dir / "flat.exr")).exitCode, 0);
+    const ImageData smooth = readImage(dir / "smooth.exr"), flat = readImage(dir / "flat.exr");
+    // Along the middle row: count the distinct values (a flat facet repeats its value
+    // across its pixels; smooth normals change from pixel to pixel).
+    auto distinct = [](const ImageData& img) {
+        std::vector<float> v;
+        for (int x = 0; x < img.width; ++x)
+            if (img.at(x, 24, 0) > 0.f) v.push_back(img.at(x, 24, 0));
+        std::sort(v.begin(), v.end());
+        return size_t(std::unique(v.begin(), v.end()) - v.begin());
+    };
+    EXPECT_LE(distinct(flat), 10u) << "at most one value per facet crossed";
+    EXPECT_GE(distinct(smooth), 20u);
+    // The centre faces the light either way.
+    EXPECT_NEAR(smooth.at(24, 24, 0), flat.at(24, 24, 0), 0.05f * flat.at(24, 24, 0));
 }
 
 // ------------------------------------------------------------------ errors

@@ -4,6 +4,8 @@
 // unknown and malformed files, and the Stanford bunny (skipped without ../shared).
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -123,6 +125,32 @@ TEST(ModelFile, ReferencedBufferIsReadThroughThePathPolicy) {
     const std::string lost = errorOf(dir / "scene" / "lost.gltf");
     EXPECT_NE(lost.find("lost.gltf"), std::string::npos) << lost;
     EXPECT_NE(lost.find("lost.bin"), std::string::npos) << lost;
+}
+
+TEST(ModelFile, GltfBaseColourTextureFilesAreUsedAndEmbeddedOnesWarn) {
+    const fs::path dir = test::tempDir();
+    {
+        auto out = OIIO::ImageOutput::create((dir / "wood.png").string());
+        ASSERT_TRUE(out);
+        OIIO::ImageSpec spec(1, 1, 3, OIIO::TypeDesc::UINT8);
+        ASSERT_TRUE(out->open((dir / "wood.png").string(), spec));
+        unsigned char px[3] = {200, 100, 50};
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px));
+        out->close();
+    }
+    std::string gltf = test::twoQuadsGltf();
+    const std::string clay = R"("pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.4, 0.2, 1])";
+    ASSERT_NE(gltf.find(clay), std::string::npos);
+    gltf.replace(gltf.find(clay), clay.size(), clay + R"(, "baseColorTexture": {"index": 0})");
+    gltf.replace(gltf.find(R"("buffers")"), 0, R"("images": [{"uri": "wood.png"}], "textures": [{"source": 0}], )");
+    test::writeFile(dir / "textured.gltf", gltf);
+    Quiet q;
+    LoadedScene s = loadScene(dir / "textured.gltf", {}, q.logger);
+    EXPECT_TRUE(q.warnings.empty()) << q.warnings.front();
+    ASSERT_EQ(s.scene.textures.size(), 1u);
+    EXPECT_EQ(fs::path(s.scene.textures[0]).filename(), "wood.png");
+    EXPECT_EQ(materialOf(s.scene, "card").textureIndex, 0);
+    EXPECT_EQ(materialOf(s.scene, "lamp").textureIndex, -1);
 }
 
 TEST(ModelFile, StlAndPlyWithVertexColours) {

@@ -7,6 +7,8 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -151,6 +153,41 @@ TEST(ModelFile, GltfBaseColourTextureFilesAreUsedAndEmbeddedOnesWarn) {
     EXPECT_EQ(fs::path(s.scene.textures[0]).filename(), "wood.png");
     EXPECT_EQ(materialOf(s.scene, "card").textureIndex, 0);
     EXPECT_EQ(materialOf(s.scene, "lamp").textureIndex, -1);
+
+    // An image inside the file (a buffer view) is not read: one warning, the base colour alone.
+    gltf.replace(gltf.find(R"({"uri": "wood.png"})"), std::string(R"({"uri": "wood.png"})").size(),
+                 R"({"bufferView": 1, "mimeType": "image/png"})");
+    test::writeFile(dir / "embedded.gltf", gltf);
+    Quiet e;
+    LoadedScene embedded = loadScene(dir / "embedded.gltf", {}, e.logger);
+    EXPECT_EQ(materialOf(embedded.scene, "card").textureIndex, -1);
+    ASSERT_EQ(e.warnings.size(), 1u);
+    EXPECT_NE(e.warnings[0].find("embedded textures are not supported"), std::string::npos) << e.warnings[0];
+    EXPECT_NEAR(materialOf(embedded.scene, "card").kd.r, 0.96f * 0.8f, 1e-6f);
+}
+
+// The fuzz target's seeds (tests/fuzz/corpus_model: a format byte, then the file) load as they should.
+TEST(ModelFile, BinaryGltfColladaOffPlyAndStlSeedsLoad) {
+    const fs::path dir = test::tempDir();
+    struct Seed {
+        const char* name;
+        size_t triangles;
+    };
+    for (const Seed& seed : {Seed{"two_quads.glb", 4}, Seed{"triangle.dae", 1}, Seed{"quad.off", 2},
+                             Seed{"binary.ply", 2}, Seed{"binary.stl", 2}}) {
+        SCOPED_TRACE(seed.name);
+        std::ifstream in(fs::path(PENUMBRA_SOURCE_DIR) / "tests" / "fuzz" / "corpus_model" / seed.name, std::ios::binary);
+        std::stringstream bytes;
+        bytes << in.rdbuf();
+        ASSERT_GT(bytes.str().size(), 1u);
+        const fs::path file = test::writeFile(dir / seed.name, bytes.str().substr(1));
+        Quiet q;
+        LoadedScene s = loadScene(file, {}, q.logger);
+        EXPECT_EQ(s.scene.triangleCount(), seed.triangles);
+        if (std::string(seed.name) == "two_quads.glb") {
+            EXPECT_TRUE(materialOf(s.scene, "lamp").isEmissive());
+        }
+    }
 }
 
 TEST(ModelFile, StlAndPlyWithVertexColours) {

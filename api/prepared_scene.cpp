@@ -2,6 +2,7 @@
 // logging, loading a scene file, preparing.
 #include "api/api_internal.h"
 
+#include <cmath>
 #include <filesystem>
 
 #include "core/io/scene_loader.h"
@@ -73,6 +74,11 @@ Scene Renderer::loadScene(const std::string& path, const LoadOptions& options) c
         require(!path.empty(), "scene path is empty");
         pn::LoadOptions lo;
         lo.strict = options.strict;
+        require(std::isfinite(options.smoothAngleDegrees) && options.smoothAngleDegrees >= 0.f &&
+                    options.smoothAngleDegrees <= 180.f,
+                "smooth angle must lie in [0, 180] degrees");
+        lo.meshModel = options.meshModel;
+        lo.smoothAngleDegrees = options.smoothAngleDegrees;
         // The scene's own folder, so its MTL files, textures and meshes stay readable.
         std::vector<fs::path> roots{fs::absolute(fs::path(path)).parent_path()};
         for (const std::string& root : options.allowedRoots) {

@@ -2,7 +2,7 @@
 # (<penumbra/...>, standard types only), a CMake package (find_package(Penumbra)
 # gives penumbra::penumbra) and a pkg-config file (penumbra.pc).
 #
-# The library links Embree, TBB, OpenImageIO and tinyobjloader privately and
+# The library links Embree, TBB, OpenImageIO, tinyobjloader and Assimp privately and
 # its headers include none of them, so the installed package carries no
 # dependencies for a shared build.
 include(GNUInstallDirs)

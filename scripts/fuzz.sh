@@ -5,14 +5,14 @@
 # sanitizer or breaks an invariant; the input that did it is kept in
 # build-fuzz/artifacts/<target>/ (replay: build-fuzz/bin/<target> FILE).
 # New interesting inputs go to build-fuzz/corpus/<target>/, never into the source tree.
-#   usage: scripts/fuzz.sh [SECONDS] [TARGET...]     (targets: fuzz_obj fuzz_json)
+#   usage: scripts/fuzz.sh [SECONDS] [TARGET...]     (targets: fuzz_obj fuzz_json fuzz_model)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(fuzz_obj fuzz_json)
+[[ ${#targets[@]} -gt 0 ]] || targets=(fuzz_obj fuzz_json fuzz_model)
 [[ "$seconds" =~ ^[0-9]+$ ]] || { echo "fuzz.sh: SECONDS must be a whole number, got '$seconds'" >&2; exit 2; }
 # Inputs up to 1 MiB reach the loaders' size paths: faces beyond 255 and 512
 # corners with v/vt/vn indices, objects past 16 keys (hashed duplicate check)

@@ -1,5 +1,5 @@
 // penumbra-mpi: one frame rendered by the ranks of an MPI job.
-//   mpirun -np N penumbra-mpi SCENE.{obj,json} -o OUT.{exr,...} [penumbra's options]
+//   mpirun -np N penumbra-mpi SCENE.{json,obj,ply,gltf,...} -o OUT.{exr,...} [penumbra's options]
 // Every rank loads the scene through the public API; rank 0 hands out tiles
 // as workers finish them, pastes the returned framebuffers into the frame and
 // writes the image: the same image, bit for bit, as `penumbra` with the same

@@ -98,19 +98,74 @@ std::string seedProblem(const std::string& v) {
     return {};
 }
 
+int reportUsageError(const std::string& message) {
+    std::string msg = message;
+    for (char& c : msg)
+        if (c == '\n' || c == '\r') c = ' ';
+    std::fprintf(stderr, "penumbra: error: %s (see --help)\n", msg.c_str());
+    return 2;
+}
+
+namespace {
+
+// The checks of values CLI11 parsed; throws pnb::Error naming the option.
+void readValues(Options& o, const std::string& eye, const std::string& lookAt, const std::string& up,
+                const std::string& ambient, const std::string& background, const std::string& crop,
+                const std::string& lightSelection, const std::string& model) {
+    if (!eye.empty()) o.eye = parseVec3(eye, "--eye");
+    if (!lookAt.empty()) o.lookAt = parseVec3(lookAt, "--look-at");
+    if (!up.empty()) o.up = parseVec3(up, "--up");
+    // Their limits (finite as 32-bit floats, >= 0) are the scene's: pnb::Scene checks them when they are applied.
+    if (!ambient.empty()) {
+        const pnb::Vec3 a = parseVec3(ambient, "--ambient");
+        o.ambient = pnb::Color{a.x, a.y, a.z};
+    }
+    if (!background.empty()) {
+        const pnb::Vec3 b = parseVec3(background, "--background");
+        o.background = pnb::Color{b.x, b.y, b.z};
+    }
+    if (!crop.empty()) o.crop = parseCrop(crop);
+    if (!lightSelection.empty()) {
+        if (lightSelection != "all" && lightSelection != "power")
+            throw Error(ErrorCode::InvalidArgument, "--light-selection: expected all or power, got '" + lightSelection + "'");
+        o.lightSelection = lightSelection;
+    }
+    if (!model.empty()) {
+        if (model == "classic")
+            o.model = pnb::PhongModel::Classic;
+        else if (model == "normalized" || model == "normalised")
+            o.model = pnb::PhongModel::Normalized;
+        else
+            throw Error(ErrorCode::InvalidArgument, "--model: expected classic or normalized, got '" + model + "'");
+    }
+    if (o.smoothAngle && !(*o.smoothAngle >= 0.f && *o.smoothAngle <= 180.f))
+        throw Error(ErrorCode::InvalidArgument, "--smooth-angle: must lie in [0, 180] degrees");
+    if (!std::isfinite(o.exposure)) throw Error(ErrorCode::InvalidArgument, "--exposure: must be finite");
+    if (o.accel != "embree" && o.accel != "naive")
+        throw Error(ErrorCode::InvalidArgument, "--accel: unknown accelerator '" + o.accel + "' (expected embree or naive)");
+    if (o.buildQuality != "low" && o.buildQuality != "medium" && o.buildQuality != "high")
+        throw Error(ErrorCode::InvalidArgument, "--build-quality: expected low, medium or high, got '" + o.buildQuality + "'");
+}
+
+}  // namespace
+
 ParseResult parseCommandLine(int argc, char** argv) {
-    CLI::App app{"penumbra: render an OBJ/MTL or JSON scene with Embree-accelerated Whitted ray tracing or path tracing"};
+    CLI::App app{"penumbra: render a scene (JSON, OBJ/MTL, or a model Assimp reads: PLY, STL, glTF, FBX, COLLADA, ...) "
+                 "with Embree-accelerated Whitted ray tracing or path tracing"};
+    // As most Unix tools: a repeated option takes its last value (aliases and wrappers add defaults before the user's).
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     Options o;
     std::string eye, lookAt, up, ambient, background, crop;
     int width = 0, height = 0, spp = 0, lightSamples = 0, maxDepth = 0, threads = 0, tileSize = 0;
     uint64_t seed = 0;
     float fov = 0, aperture = 0, focus = 0;
-    std::string lightSelection;
+    std::string lightSelection, model;
+    float smoothAngle = 0.f;
     std::string env;
     float envRotate = 0.f;
     std::string integrator;
 
-    app.add_option("scene", o.scene, "Scene file (.obj or .json)")->required();
+    app.add_option("scene", o.scene, "Scene file (.json, .obj, or a model: .ply .stl .gltf .glb .fbx .dae ...)")->required();
     app.add_option("-o,--output", o.output, "Output image (.exr .hdr .pfm .png .jpg .tif)")->required();
     auto* oWidth = app.add_option("--width", width, "Image width in pixels");
     auto* oHeight = app.add_option("--height", height, "Image height in pixels");
@@ -142,6 +197,9 @@ ParseResult parseCommandLine(int argc, char** argv) {
     app.add_flag("-q,--quiet", o.quiet, "No progress and no summary");
     auto* oEnv = app.add_option("--env", env, "Environment light: radiance r,g,b or a lat-long image (.exr .hdr ...)");
     auto* oEnvRotate = app.add_option("--env-rotate", envRotate, "Turn the --env image by DEG about +y");
+    app.add_option("--model", model, "Phong model of mesh and model files' materials: classic or normalized (default)");
+    auto* oSmooth = app.add_option("--smooth-angle", smoothAngle,
+                                   "Smooth meshes without normals across edges under this angle in degrees (default 30; 0 = faceted)");
 
     try {
         app.parse(argc, argv);
@@ -149,11 +207,7 @@ ParseResult parseCommandLine(int argc, char** argv) {
         // --help ends the program successfully; anything else is a usage error:
         // one line, and exit code 2 (CLI11's own codes run from 100 to 115).
         if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return {std::nullopt, app.exit(e)};
-        std::string msg = e.what();
-        for (char& c : msg)
-            if (c == '\n' || c == '\r') c = ' ';
-        std::fprintf(stderr, "penumbra: error: %s (see --help)\n", msg.c_str());
-        return {std::nullopt, 2};
+        return {std::nullopt, reportUsageError(e.what())};
     }
     if (oWidth->count()) o.width = width;
     if (oHeight->count()) o.height = height;
@@ -166,23 +220,11 @@ ParseResult parseCommandLine(int argc, char** argv) {
     if (oFov->count()) o.fov = fov;
     if (oAperture->count()) o.aperture = aperture;
     if (oFocus->count()) o.focusDistance = focus;
-    if (!eye.empty()) o.eye = parseVec3(eye, "--eye");
-    if (!lookAt.empty()) o.lookAt = parseVec3(lookAt, "--look-at");
-    if (!up.empty()) o.up = parseVec3(up, "--up");
-    // Their limits (finite as 32-bit floats, >= 0) are the scene's: pnb::Scene checks them when they are applied.
-    if (!ambient.empty()) {
-        const pnb::Vec3 a = parseVec3(ambient, "--ambient");
-        o.ambient = pnb::Color{a.x, a.y, a.z};
-    }
-    if (!background.empty()) {
-        const pnb::Vec3 b = parseVec3(background, "--background");
-        o.background = pnb::Color{b.x, b.y, b.z};
-    }
-    if (!crop.empty()) o.crop = parseCrop(crop);
-    if (!lightSelection.empty()) {
-        if (lightSelection != "all" && lightSelection != "power")
-            throw Error(ErrorCode::InvalidArgument, "--light-selection: expected all or power, got '" + lightSelection + "'");
-        o.lightSelection = lightSelection;
+    if (oSmooth->count()) o.smoothAngle = smoothAngle;
+    try {
+        readValues(o, eye, lookAt, up, ambient, background, crop, lightSelection, model);
+    } catch (const Error& e) {
+        return {std::nullopt, reportUsageError(e.what())};
     }
     // --env problems are usage errors (exit 2), like CLI11's own.
     try {
@@ -192,20 +234,14 @@ ParseResult parseCommandLine(int argc, char** argv) {
             if (!std::isfinite(envRotate)) throw Error(ErrorCode::InvalidArgument, "--env-rotate: must be finite");
             o.envRotate = envRotate;
         }
+        if (!integrator.empty()) {
+            if (integrator != "whitted" && integrator != "path")
+                throw Error(ErrorCode::InvalidArgument, "--integrator: expected whitted or path, got '" + integrator + "'");
+            o.integrator = integrator;
+        }
     } catch (const Error& e) {
-        std::fprintf(stderr, "penumbra: error: %s (see --help)\n", e.what());
-        return {std::nullopt, 2};
+        return {std::nullopt, reportUsageError(e.what())};
     }
-    if (!integrator.empty()) {
-        if (integrator != "whitted" && integrator != "path")
-            throw Error(ErrorCode::InvalidArgument, "--integrator: expected whitted or path, got '" + integrator + "'");
-        o.integrator = integrator;
-    }
-    if (!std::isfinite(o.exposure)) throw Error(ErrorCode::InvalidArgument, "--exposure: must be finite");
-    if (o.accel != "embree" && o.accel != "naive")
-        throw Error(ErrorCode::InvalidArgument, "--accel: unknown accelerator '" + o.accel + "' (expected embree or naive)");
-    if (o.buildQuality != "low" && o.buildQuality != "medium" && o.buildQuality != "high")
-        throw Error(ErrorCode::InvalidArgument, "--build-quality: expected low, medium or high, got '" + o.buildQuality + "'");
     return {o, 0};
 }
 

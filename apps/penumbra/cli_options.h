@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include <cstdint>
@@ -33,10 +34,23 @@ struct Options {
     std::optional<std::filesystem::path> envImage;
     std::optional<float> envRotate;
     std::optional<std::string> integrator;  // "whitted" or "path"
+    std::optional<pnb::PhongModel> model;  // --model: materials of mesh and model files
+    std::optional<float> smoothAngle;      // --smooth-angle: degrees, [0, 180]
 };
 
-/// Parses argv. Returns the options, or an exit code when parsing ended the
-/// program (help printed: 0; usage error printed: 2).
+/// A bad command-line value found after parsing (checked against the
+/// defaults or the scene): reported like CLI11's usage errors, exit code 2.
+class UsageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Prints "penumbra: error: MESSAGE (see --help)" on one line; returns 2.
+int reportUsageError(const std::string& message);
+
+/// Parses argv; a repeated option takes its last value. Returns the options,
+/// or an exit code when parsing ended the program (help printed: 0; usage
+/// error or bad option value printed: 2).
 struct ParseResult {
     std::optional<Options> options;
     int exitCode = 0;

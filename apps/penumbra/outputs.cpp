@@ -71,6 +71,8 @@ void precheckOutputs(const Options& o) {
 pnb::LoadOptions loadOptionsFor(const Options& o, SceneReads& reads) {
     pnb::LoadOptions options;
     options.strict = o.strict;
+    options.meshModel = o.model;
+    if (o.smoothAngle) options.smoothAngleDegrees = *o.smoothAngle;
     // The commands read whatever the scene names, but say so when that is
     // outside the scene's folder, and never write over what they read.
     options.restrictPaths = false;

@@ -1,7 +1,8 @@
 // penumbra: the command-line renderer.
-//   penumbra SCENE.{obj,json} -o OUT.{exr,hdr,pfm,png,jpg,tif} [options]
+//   penumbra SCENE.{json,obj,ply,stl,gltf,glb,fbx,dae,...} -o OUT.{exr,hdr,pfm,png,jpg,tif} [options]
 // Exit code 0 on success; 1 with a one-line error naming the file and the
-// problem otherwise; 2 for command-line usage errors; 130 when interrupted.
+// problem otherwise; 2 for command-line usage errors and bad option values
+// (one line ending "(see --help)"); 130 when interrupted.
 //
 // An ordinary host of the public C++ API (<penumbra/penumbra.hpp>): it loads,
 // prepares and renders through pnb::Renderer like any embedding program.
@@ -15,6 +16,7 @@
 #include <csignal>
 #include <cstdio>
 #include <new>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <penumbra/penumbra.hpp>
 #include <set>
@@ -48,20 +50,39 @@ double peakMemoryMiB() {
     return double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
+/// Runs `check`; its pnb::Error becomes a UsageError (exit code 2): what it
+/// checks is a command-line value (on top of values known to be valid).
+template <class F>
+void asUsage(F&& check) {
+    try {
+        check();
+    } catch (const Error& e) {
+        throw UsageError(e.what());
+    }
+}
+
 // Everything that can be checked without reading the scene, checked before any work.
 void precheck(const Options& o) {
-    pnb::RenderSettings s = settingsFrom(o, {});
-    s.crop.reset();  // the crop is checked against the final size later
-    pnb::validate(s);
-    if (o.eye && o.lookAt) {
-        pnb::Camera c;
-        applyCameraOptions(o, c);
-        pnb::validate(c);
+    asUsage([&] {
+        pnb::RenderSettings s = settingsFrom(o, {});
+        s.crop.reset();  // the crop is checked against the final size later
+        pnb::validate(s);
+        if (o.eye && o.lookAt) {
+            pnb::Camera c;
+            applyCameraOptions(o, c);
+            pnb::validate(c);
+        }
+        pnb::Scene probe;
+        Options colours = o;
+        colours.envImage.reset();  // opened once, into the loaded scene
+        applyLightOptions(colours, probe);
+    });
+    try {
+        pnb::checkImagePath(o.output.string());
+    } catch (const Error& e) {
+        if (e.code() == ErrorCode::InvalidArgument) throw UsageError(std::string("-o: ") + e.what());  // not an image format
+        throw;
     }
-    pnb::Scene probe;
-    Options colours = o;
-    colours.envImage.reset();  // opened once, into the loaded scene
-    applyLightOptions(colours, probe);
     std::error_code ec;
     if (o.envImage && fs::symlink_status(*o.envImage, ec).type() == fs::file_type::not_found)
         throw Error(ErrorCode::FileNotFound, o.envImage->string() + ": no such file");
@@ -122,7 +143,8 @@ int runSteps(const Options& o, std::string& step) {
     checkSceneReads(o, reads, "penumbra");
 
     const pnb::RenderSettings settings = settingsFrom(o, scene.settings());
-    pnb::validate(settings);
+    // The scene's own settings were checked when it loaded: what fails now is the command line's (a crop outside the frame).
+    asUsage([&] { pnb::validate(settings); });
     const uint64_t imageBytes = peakImageBytes(settings, isExr(o.output) && o.aovs);
     const uint64_t ram = physicalMemoryBytes();
     if (ram && imageBytes > ram / 2)
@@ -131,15 +153,33 @@ int runSteps(const Options& o, std::string& step) {
                                                 " MiB for its framebuffer and output, more than half of this machine's memory");
 
     pnb::Camera camera = scene.defaultCamera(float(settings.width) / float(settings.height), o.fov.value_or(40.f));
+    std::optional<Error> sceneCamera;  // framing a scene of absurd extent can fail
+    try {
+        pnb::validate(camera);
+    } catch (const Error& e) {
+        sceneCamera = Error(e.code(), o.scene.string() + ": " + e.what());
+    }
     applyCameraOptions(o, camera);
-    pnb::validate(camera);
-    applyLightOptions(o, scene);
+    if (sceneCamera) {
+        try {
+            pnb::validate(camera);
+        } catch (const Error&) {
+            throw *sceneCamera;
+        }
+    }
+    // The scene's camera was valid: a failure now is the command line's.
+    asUsage([&] { pnb::validate(camera); });
+    asUsage([&] { applyLightOptions(o, scene); });
 
     pnb::PrepareOptions prep;
     prep.accelerator = o.accel;
     prep.quality = buildQualityOf(o);
     step = o.scene.string() + ": out of memory while preparing the scene (acceleration structure, lights, textures)";
+    const bool sky = scene.hasEnvironment();  // an environment alone is an image (of the sky)
     const pnb::PreparedScene prepared = renderer.prepare(std::move(scene), prep);
+    if (prepared.primitiveCount() == 0 && !sky)
+        throw Error(ErrorCode::InvalidScene,
+                    o.scene.string() + ": nothing to render (no shapes, no mesh with a valid triangle, no environment)");
 
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
@@ -215,6 +255,8 @@ int main(int argc, char** argv) {
         auto parsed = cli::parseCommandLine(argc, argv);
         if (!parsed.options) return parsed.exitCode;
         return cli::run(*parsed.options);
+    } catch (const cli::UsageError& e) {
+        return cli::reportUsageError(e.what());
     } catch (const pnb::Error& e) {
         std::fprintf(stderr, "penumbra: error: %s\n", e.what());
     } catch (const std::bad_alloc&) {

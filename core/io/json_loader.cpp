@@ -33,7 +33,12 @@ LoadedScene SceneReader::read(const Json& root) {
     if (const Json* l = find(root, "lights")) {
         expectType(*l, "/lights", Json::value_t::array, "an array");
         for (size_t i = 0; i < l->size(); ++i) readLight((*l)[i], child("/lights", i), scene);
+    } else {
+        scene.pointLights.insert(scene.pointLights.end(), modelPointLights_.begin(), modelPointLights_.end());
+        scene.directionalLights.insert(scene.directionalLights.end(), modelDirectionalLights_.begin(),
+                                       modelDirectionalLights_.end());
     }
+    if (!out.camera) out.camera = modelCamera_;
     log_.debug(file_ + ": " + std::to_string(scene.primitiveCount()) + " primitive(s), " +
                std::to_string(scene.materials.size()) + " material(s)");
     return out;

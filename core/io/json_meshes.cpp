@@ -1,4 +1,4 @@
-// JSON meshes: OBJ files placed by a transform, and inline triangle lists (SceneReader, json_reader.h).
+// JSON meshes: model files (OBJ and the Assimp formats) placed by a transform, and inline triangle lists (SceneReader, json_reader.h).
 #include "core/io/json_reader.h"
 
 #include <algorithm>
@@ -8,16 +8,38 @@
 #include <type_traits>
 
 #include "core/io/input_file.h"
-#include "core/io/obj_loader.h"
+#include "core/io/model_file.h"
 
 namespace penumbra {
 namespace fs = std::filesystem;
 using namespace json_text;
 
 void SceneReader::readObjMesh(const Json& j, const std::string& ptr, Scene& scene) {
-    checkKeys(j, ptr, {"type", "name", "material", "emission", "file", "transform"});
+    checkKeys(j, ptr, {"type", "name", "material", "emission", "file", "transform", "model", "smooth_angle"});
     std::string fp = child(ptr, "file");
     fs::path file = resolvePath(*find(j, "file"), fp);
+    // The file's own options: "model" and "smooth_angle" override the caller's.
+    LoadOptions options = options_;
+    if (const Json* v = find(j, "model")) {
+        const std::string mp = child(ptr, "model");
+        const std::string model = string(*v, mp);
+        if (model == "normalized" || model == "normalised")
+            options.meshModel = PhongModel::Normalized;
+        else if (model == "classic")
+            options.meshModel = PhongModel::Classic;
+        else
+            fail(ErrorCode::ParseError, mp, "expected \"classic\" or \"normalized\", got \"" + model + "\"");
+    }
+    if (const Json* v = find(j, "smooth_angle")) {
+        const std::string sp = child(ptr, "smooth_angle");
+        options.smoothAngleDegrees = nonNegative(*v, sp);
+        if (options.smoothAngleDegrees > 180.f) fail(ErrorCode::ParseError, sp, "must lie in [0, 180] degrees");
+    }
+    if (!isModelExtension(file.extension().string()))
+        fail(ErrorCode::InvalidArgument, fp,
+             file.string() + ": unknown mesh format " +
+                 (file.extension().empty() ? std::string("(no extension)") : "'" + file.extension().string() + "'") +
+                 " (supported: " + modelFormatsText() + ")");
     // Opened once, right after the path check; appendObj reads this descriptor only.
     std::unique_ptr<InputFile> in;
     try {
@@ -35,7 +57,14 @@ void SceneReader::readObjMesh(const Json& j, const std::string& ptr, Scene& scen
     const size_t firstMesh = scene.meshes.size();
     ObjStats stats;
     try {
-        stats = appendObj(scene, *in, t, options_, log_);
+        ModelFile model = appendModelFile(scene, *in, t, options, log_);
+        stats = model.stats;
+        // The file's camera and lights count when the JSON scene has none (SceneReader::read).
+        if (model.extras.camera && !modelCamera_) modelCamera_ = model.extras.camera;
+        modelPointLights_.insert(modelPointLights_.end(), model.extras.pointLights.begin(),
+                                 model.extras.pointLights.end());
+        modelDirectionalLights_.insert(modelDirectionalLights_.end(), model.extras.directionalLights.begin(),
+                                       model.extras.directionalLights.end());
     } catch (const Error& e) {
         fail(e.code(), ptr, e.what());
     }

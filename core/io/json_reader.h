@@ -85,7 +85,7 @@ private:
     Rectangle rectangle(const Json& j, const std::string& ptr) const;
     Disk disk(const Json& j, const std::string& ptr) const;
 
-    // ---- meshes (OBJ files and inline) (json_meshes.cpp)
+    // ---- meshes (model files and inline) (json_meshes.cpp)
     void readObjMesh(const Json& j, const std::string& ptr, Scene& scene);
     /// Numbers of an array given either nested ([[x, y, z], ...]) or flat
     /// ([x, y, z, ...]), flattened; T is float (finite numbers) or uint32_t (indices).
@@ -129,6 +129,10 @@ private:
     };
     std::map<std::string, PrototypeEntry> prototypeEntries_;  // by name
     std::vector<std::string> resolving_;                      // the prototypes being read, outermost first
+    // What model files named by meshes say of the view and the lights.
+    std::optional<CameraDesc> modelCamera_;
+    std::vector<PointLight> modelPointLights_;
+    std::vector<DirectionalLight> modelDirectionalLights_;
 };
 
 }  // namespace penumbra

@@ -3,7 +3,10 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <vector>
+
+#include "core/material.h"
 
 namespace penumbra {
 
@@ -18,6 +21,13 @@ struct LoadOptions {
     /// scene file's folder and prints one summary line).
     std::vector<std::filesystem::path> noticeRoots;
     std::function<void(const std::filesystem::path&)> onReadOutside;
+    /// The Phong model of the materials read from mesh files (OBJ/MTL, Assimp
+    /// formats); unset: each loader's default (normalised). JSON materials keep their own.
+    std::optional<PhongModel> meshModel;
+    /// Meshes read from files without vertex normals get smooth normals across
+    /// edges whose faces meet at less than this angle (degrees, [0, 180]); 0 = faceted.
+    float smoothAngleDegrees = kDefaultSmoothAngleDegrees;
+    static constexpr float kDefaultSmoothAngleDegrees = 30.f;
 };
 
 }  // namespace penumbra

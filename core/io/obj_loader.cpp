@@ -18,6 +18,7 @@
 
 #include "core/error.h"
 #include "core/io/mtl_files.h"
+#include "core/io/mesh_options.h"
 #include "core/io/mtl_materials.h"
 #include "core/io/obj_loader.h"
 #include "core/io/obj_prepass.h"
@@ -136,6 +137,7 @@ ObjStats appendObj(Scene& scene, const InputFile& obj, const Transform& worldFro
 
     // Materials: appended after the scene's own, in MTL order.
     const uint32_t materialBase = static_cast<uint32_t>(scene.materials.size());
+    const size_t firstMesh = scene.meshes.size();
     MaterialConverter converter(scene, objPath, options, log);
     for (size_t i = 0; i < mtls.size(); ++i)
         scene.materials.push_back(converter.convert(copyOut(mtls[i], i < reader.files.size() ? reader.files[i] : fs::path())));
@@ -166,6 +168,7 @@ ObjStats appendObj(Scene& scene, const InputFile& obj, const Transform& worldFro
     }
     ObjStats stats = builder.finish(file, options, log);
     stats.materials = scene.materials.size() - materialBase;
+    applyMeshOptions(scene, firstMesh, materialBase, options);
     return stats;
 }
 

@@ -1,5 +1,5 @@
-// Scene-file dispatch and automatic framing; the formats live in obj_loader.cpp
-// and json_loader.cpp, the path policy in path_policy.cpp.
+// Scene-file dispatch and automatic framing; the formats live in obj_loader.cpp,
+// assimp_loader.cpp (through model_file.cpp) and json_loader.cpp, the path policy in path_policy.cpp.
 #include "core/io/scene_loader.h"
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/io/model_file.h"
 
 namespace penumbra {
 namespace fs = std::filesystem;
@@ -16,7 +17,10 @@ LoadedScene loadScene(const fs::path& path, const LoadOptions& options, const Lo
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
     if (ext == ".obj") return loadObjScene(path, options, log);
     if (ext == ".json") return loadJsonScene(path, options, log);
-    throw Error(ErrorCode::InvalidArgument, path.string() + ": unknown scene format (expected .obj or .json)");
+    if (isModelExtension(ext)) return loadModelScene(path, options, log);
+    throw Error(ErrorCode::InvalidArgument, path.string() + ": unknown scene format " +
+                                                (ext.empty() ? std::string("(no extension)") : "'" + ext + "'") +
+                                                " (supported: .json, " + modelFormatsText() + ")");
 }
 
 CameraDesc frameBounds(const Bounds3f& bounds, float vfovDegrees, float aspect) {

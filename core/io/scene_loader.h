@@ -1,5 +1,5 @@
 // Loading scenes from files: dispatch on the extension to the OBJ/MTL loader
-// (obj_loader.h) or the JSON loader (json_loader.h); automatic framing. The
+// (obj_loader.h), the Assimp formats (model_file.h) or the JSON loader (json_loader.h); automatic framing. The
 // path policy they all read through is at the bottom (path_policy.h,
 // input_file.h). This header gives callers the whole loading interface.
 #pragma once
@@ -16,7 +16,8 @@
 
 namespace penumbra {
 
-/// Dispatches on the extension (.obj or .json, case-insensitive).
+/// Dispatches on the extension (.json, .obj or one Assimp reads, case-insensitive);
+/// an unknown one is an error naming the file and listing the supported formats.
 LoadedScene loadScene(const std::filesystem::path& path, const LoadOptions& options, const Logger& log);
 
 /// A camera that frames the scene's bounds (used for OBJ files without camera options):

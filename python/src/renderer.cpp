@@ -1,5 +1,7 @@
 // Renderer (load, prepare, render, progressive passes) and RenderJob
 // (asynchronous renders). Every render runs without the GIL.
+#include <optional>
+
 #include "bindings.h"
 #include "wait.h"
 
@@ -291,19 +293,25 @@ void bindRenderer(py::module_& m) {
         .def(
             "load_scene",
             [](const pnb::Renderer& r, const py::object& path, bool strict, bool restrictPaths,
-               const std::vector<py::object>& allowedRoots) {
+               const std::vector<py::object>& allowedRoots, std::optional<pnb::PhongModel> model, float smoothAngle) {
                 pnb::LoadOptions o;
                 o.strict = strict;
                 o.restrictPaths = restrictPaths;
+                o.meshModel = model;
+                o.smoothAngleDegrees = smoothAngle;
                 for (const py::object& root : allowedRoots) o.allowedRoots.push_back(pathString(root));
                 const std::string p = pathString(path);
                 py::gil_scoped_release release;
                 return r.loadScene(p, o);
             },
             py::arg("path"), py::kw_only(), py::arg("strict") = false, py::arg("restrict_paths") = true,
-            py::arg("allowed_roots") = std::vector<py::object>{},
-            "Reads a .json or .obj scene. With restrict_paths (the default) only files below the scene's folder "
-            "and allowed_roots may be read. Raises penumbra.Error naming the file and line or JSON path.")
+            py::arg("allowed_roots") = std::vector<py::object>{}, py::arg("model") = py::none(),
+            py::arg("smooth_angle") = 30.f,
+            "Reads a .json, .obj or model scene (PLY, STL, glTF, FBX, COLLADA, ... through Assimp). With "
+            "restrict_paths (the default) only files below the scene's folder and allowed_roots may be read. "
+            "model (a PhongModel) sets the Phong model of mesh files' materials; meshes without normals are "
+            "smoothed across edges under smooth_angle degrees (0 = faceted). Raises penumbra.Error naming the "
+            "file and line or JSON path.")
         .def(
             "prepare",
             [](const pnb::Renderer& r, const pnb::Scene& scene, const std::string& accelerator,

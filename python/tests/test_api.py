@@ -194,3 +194,17 @@ def test_instances_render_like_copies_and_refuse_bad_input(renderer):
     assert e.code == penumbra.ErrorCode.InvalidArgument
     e = error_of(lambda: instanced.add_prototype_mesh(proto, numpy.zeros((4, 2)), [[0, 1, 2]]))
     assert "add_prototype_mesh: positions" in str(e)
+
+
+def test_load_scene_reads_models_with_a_model_and_smoothing(tmp_path):
+    # An ASCII PLY quad without normals: read through Assimp, smoothed (flat: its face normal), and
+    # its materials take the Phong model asked for.
+    path = tmp_path / "quad.ply"
+    path.write_text("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                    "-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n4 0 1 2 3\n")
+    renderer = penumbra.Renderer()
+    scene = renderer.load_scene(path, model=penumbra.PhongModel.Classic, smooth_angle=0)
+    assert scene.triangle_count == 2
+    with pytest.raises(penumbra.Error, match="quad.xyz"):
+        renderer.load_scene(tmp_path / "quad.xyz")

@@ -191,8 +191,11 @@ TEST_F(BadInput, DirectoryAsSceneFile) {
 }
 
 TEST_F(BadInput, UnknownSceneExtension) {
+    write("scene.xyz", "ply\nformat ascii 1.0\n");
+    expectCleanFailure(run(in("scene.xyz") + out()), {"scene.xyz", "unknown scene format '.xyz'", ".ply", ".gltf"});
+    // A known extension with broken contents names the file too.
     write("scene.ply", "ply\nformat ascii 1.0\n");
-    expectCleanFailure(run(in("scene.ply") + out()), {"scene.ply", "unknown scene format"});
+    expectCleanFailure(run(in("scene.ply") + out()), {"scene.ply", "cannot read as ply"});
 }
 
 TEST_F(BadInput, EmptyFiles) {
@@ -542,7 +545,8 @@ protected:
         write("lamp.mtl", "newmtl lamp\nKd 0 0 0\nKe 1 1 1\n");
         write("scene.obj", "mtllib lamp.mtl\nusemtl lamp\n" + std::string(kQuad) + "f 1 2 3 4\n");
     }
-    void expectRefused(const std::string& options, std::initializer_list<std::string> needles, int exitCode = 1) {
+    /// A bad option value is a usage error: exit code 2 unless said otherwise.
+    void expectRefused(const std::string& options, std::initializer_list<std::string> needles, int exitCode = 2) {
         SCOPED_TRACE(options);
         expectCleanFailure(run(in("scene.obj") + " " + options + out()), needles, exitCode);
     }
@@ -604,9 +608,9 @@ TEST_F(BadOption, AcceleratorAndFormats) {
     expectRefused("--integrator bdpt", {"--integrator", "expected whitted or path, got 'bdpt'"});
     SCOPED_TRACE("output formats");
     expectCleanFailure(run(in("scene.obj") + " -o " + shellQuote((out_ / "x.bmp").string())),
-                       {"x.bmp", "unknown image format '.bmp'"});
+                       {"x.bmp", "unknown image format '.bmp'"}, 2);
     expectCleanFailure(run(in("scene.obj") + " -o " + shellQuote((out_ / "noextension").string())),
-                       {"noextension", "unknown image format"});
+                       {"noextension", "unknown image format"}, 2);
     expectCleanFailure(run(in("scene.obj")), {"--output", "required"}, 2);
 }
 
@@ -620,7 +624,7 @@ TEST_F(BadOption, UnwritableOutput) {
     EXPECT_TRUE(fs::is_empty(dir_ / "taken.exr"));
     if (::geteuid() != 0) {
         fs::permissions(out_, fs::perms::owner_read | fs::perms::owner_exec);
-        expectRefused("", {"img.exr", "not writable"});
+        expectRefused("", {"img.exr", "not writable"}, 1);
         fs::permissions(out_, fs::perms::owner_all);
     }
 }

@@ -199,15 +199,22 @@ TEST(ObjLoader, VerticesAreSharedPerIndexTriple) {
     EXPECT_EQ(m.normals[m.indices[6]].z, -1.f);
 }
 
-TEST(ObjLoader, MissingNormalsAndUvsLeaveThemEmpty) {
+TEST(ObjLoader, MissingNormalsAreSmoothedAndMissingUvsLeftEmpty) {
     fs::path dir = tempDir();
     auto obj = writeFile(dir / "plain.obj", std::string(kUnitQuad) + "f 1 2 3 4\n");
     LogCapture log;
     Loaded l = load(obj, log);
     ASSERT_EQ(l.scene.meshes.size(), 1u);
-    EXPECT_TRUE(l.scene.meshes[0].normals.empty());
+    // A flat quad's smooth normals are its face normal (core/mesh_normals.h).
+    ASSERT_EQ(l.scene.meshes[0].normals.size(), 4u);
+    for (const Vec3f& n : l.scene.meshes[0].normals) EXPECT_NEAR(dot(n, Vec3f{0, 0, 1}), 1.f, 1e-6f);
     EXPECT_TRUE(l.scene.meshes[0].uvs.empty());
     EXPECT_EQ(l.scene.meshes[0].positions.size(), 4u);
+    // An angle of 0 keeps it faceted: no normals.
+    LoadOptions faceted;
+    faceted.smoothAngleDegrees = 0.f;
+    Loaded f = load(obj, log, faceted);
+    EXPECT_TRUE(f.scene.meshes[0].normals.empty());
 }
 
 TEST(ObjLoader, NormalsAndUvsAreKept) {
@@ -751,12 +758,15 @@ TEST(SceneLoader, DispatchesOnTheExtension) {
     EXPECT_FALSE(s.camera.has_value());
     EXPECT_EQ(s.sourcePath, obj);
     try {
-        loadScene(dir / "model.ply", {}, log.logger);
+        loadScene(dir / "model.xyz", {}, log.logger);
         FAIL();
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
-        EXPECT_EQ(std::string(e.what()),
-                  (dir / "model.ply").string() + ": unknown scene format (expected .obj or .json)");
+        EXPECT_EQ(std::string(e.what()).rfind((dir / "model.xyz").string() +
+                                                  ": unknown scene format '.xyz' (supported: .json, .obj, ",
+                                              0),
+                  0u)
+            << e.what();
     }
     auto json = writeFile(dir / "s.JSON", "{}");
     EXPECT_NO_THROW(loadScene(json, {}, log.logger));

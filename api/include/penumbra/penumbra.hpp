@@ -102,6 +102,12 @@ struct LoadOptions {
     /// and whether it lies outside the scene file's folder and allowedRoots.
     /// Lets a host warn about outside reads, or refuse to write over an input.
     std::function<void(const std::string& path, bool outside)> onRead;
+    /// The Phong model of the materials read from mesh and model files (OBJ/MTL,
+    /// PLY, glTF, ...); unset: normalised. JSON materials keep their own "model".
+    std::optional<PhongModel> meshModel;
+    /// Meshes read from files without vertex normals are smoothed across edges
+    /// whose faces meet at less than this angle (degrees, [0, 180]); 0 = faceted.
+    float smoothAngleDegrees = 30.f;
 };
 
 // ---------------------------------------------------------------- scene

@@ -1,0 +1,290 @@
+// Model files through Assimp (core/io/model_file.h, assimp_loader.h): glTF
+// materials, camera and lights, a referenced .bin read through the path
+// policy, STL and PLY (vertex colours), the --model and smoothing options,
+// unknown and malformed files, and the Stanford bunny (skipped without ../shared).
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/io/scene_loader.h"
+#include "support/test_support.h"
+
+namespace penumbra {
+namespace {
+namespace fs = std::filesystem;
+
+struct Quiet {
+    std::vector<std::string> warnings;
+    Logger logger{[this](LogLevel level, std::string_view msg) {
+                      if (level == LogLevel::Warning) warnings.emplace_back(msg);
+                  },
+                  LogLevel::Debug};
+};
+
+/// The material of the mesh whose name contains `name`.
+const Material& materialOf(const Scene& s, const std::string& name) {
+    for (const TriangleMesh& m : s.meshes)
+        if (m.name.find(name) != std::string::npos) return s.materials.at(m.material);
+    throw std::runtime_error("no mesh named " + name);
+}
+
+std::string errorOf(const fs::path& file, const LoadOptions& options = {}) {
+    Quiet q;
+    try {
+        loadScene(file, options, q.logger);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(ModelFile, GltfMaterialsCameraAndLight) {
+    const fs::path dir = test::tempDir();
+    const fs::path file = test::writeFile(dir / "quads.gltf", test::twoQuadsGltf());
+    Quiet q;
+    LoadedScene s = loadScene(file, {}, q.logger);
+    EXPECT_TRUE(q.warnings.empty()) << q.warnings.front();
+    EXPECT_EQ(s.scene.triangleCount(), 4u);
+
+    const Material& glow = materialOf(s.scene, "lamp");
+    EXPECT_TRUE(glow.isEmissive());
+    EXPECT_FLOAT_EQ(glow.ke.r, 1.f);
+    EXPECT_FLOAT_EQ(glow.ke.g, 0.5f);
+    EXPECT_FLOAT_EQ(glow.ke.b, 0.25f);
+    EXPECT_FLOAT_EQ(glow.kd.r, 0.f);
+
+    // Base colour less the dielectric's 4%; F0 = 0.04 as ks; roughness 1 is the broadest lobe.
+    const Material& clay = materialOf(s.scene, "card");
+    EXPECT_FALSE(clay.isEmissive());
+    EXPECT_NEAR(clay.kd.r, 0.96f * 0.8f, 1e-6f);
+    EXPECT_NEAR(clay.kd.g, 0.96f * 0.4f, 1e-6f);
+    EXPECT_NEAR(clay.kd.b, 0.96f * 0.2f, 1e-6f);
+    EXPECT_NEAR(clay.ks.r, 0.04f, 1e-6f);
+    EXPECT_FLOAT_EQ(clay.exponent, 1.f);
+    EXPECT_EQ(clay.model, PhongModel::Normalized);
+
+    ASSERT_EQ(s.scene.pointLights.size(), 1u);
+    EXPECT_NEAR(s.scene.pointLights[0].position.x, 1.25f, 1e-6f);
+    EXPECT_NEAR(s.scene.pointLights[0].position.z, 2.f, 1e-6f);
+    EXPECT_NEAR(s.scene.pointLights[0].intensity.g, 4.f, 1e-5f);
+
+    ASSERT_TRUE(s.camera.has_value());
+    EXPECT_NEAR(s.camera->eye.z, 5.f, 1e-6f);
+    EXPECT_NEAR(s.camera->lookAt.z, 4.f, 1e-6f);
+    EXPECT_NEAR(s.camera->vfovDegrees, 0.8f * 180.f / kPi, 1e-3f);
+}
+
+TEST(ModelFile, ModelAndSmoothingOptions) {
+    const fs::path dir = test::tempDir();
+    const fs::path file = test::writeFile(dir / "quads.gltf", test::twoQuadsGltf());
+    LoadOptions classic;
+    classic.meshModel = PhongModel::Classic;
+    Quiet q;
+    LoadedScene s = loadScene(file, classic, q.logger);
+    EXPECT_EQ(materialOf(s.scene, "card").model, PhongModel::Classic);
+    // Flat quads: smoothing gives them their face normal; 0 leaves them without normals.
+    for (const TriangleMesh& m : s.scene.meshes) {
+        ASSERT_EQ(m.normals.size(), m.positions.size());
+        for (const Vec3f& n : m.normals) EXPECT_NEAR(n.z, 1.f, 1e-6f);
+    }
+    LoadOptions faceted;
+    faceted.smoothAngleDegrees = 0.f;
+    LoadedScene f = loadScene(file, faceted, q.logger);
+    for (const TriangleMesh& m : f.scene.meshes) EXPECT_TRUE(m.normals.empty());
+}
+
+TEST(ModelFile, ReferencedBufferIsReadThroughThePathPolicy) {
+    const fs::path dir = test::tempDir();
+    test::writeFile(dir / "scene" / "quads.bin", test::twoQuadsBuffer());
+    const fs::path file = test::writeFile(dir / "scene" / "quads.gltf", test::twoQuadsGltf("quads.bin"));
+    std::vector<fs::path> reads;
+    LoadOptions watch;
+    watch.noticeRoots = {fs::path("/nonexistent-root")};
+    watch.onReadOutside = [&](const fs::path& p) { reads.push_back(p); };
+    Quiet q;
+    EXPECT_EQ(loadScene(file, watch, q.logger).scene.triangleCount(), 4u);
+    ASSERT_EQ(reads.size(), 2u) << "the model and its buffer, each once";
+    EXPECT_EQ(reads[1].filename(), "quads.bin");
+
+    // A buffer outside the allowed folders is refused, and the error names it.
+    test::writeFile(dir / "outside.bin", test::twoQuadsBuffer());
+    test::writeFile(dir / "scene" / "escape.gltf", test::twoQuadsGltf("../outside.bin"));
+    LoadOptions confined;
+    confined.allowedRoots = {dir / "scene"};
+    const std::string e = errorOf(dir / "scene" / "escape.gltf", confined);
+    EXPECT_NE(e.find("escape.gltf"), std::string::npos) << e;
+    EXPECT_NE(e.find("outside.bin"), std::string::npos) << e;
+    EXPECT_NE(e.find("outside the allowed directories"), std::string::npos) << e;
+    // A missing buffer names the model and the buffer.
+    test::writeFile(dir / "scene" / "lost.gltf", test::twoQuadsGltf("lost.bin"));
+    const std::string lost = errorOf(dir / "scene" / "lost.gltf");
+    EXPECT_NE(lost.find("lost.gltf"), std::string::npos) << lost;
+    EXPECT_NE(lost.find("lost.bin"), std::string::npos) << lost;
+}
+
+TEST(ModelFile, GltfBaseColourTextureFilesAreUsedAndEmbeddedOnesWarn) {
+    const fs::path dir = test::tempDir();
+    {
+        auto out = OIIO::ImageOutput::create((dir / "wood.png").string());
+        ASSERT_TRUE(out);
+        OIIO::ImageSpec spec(1, 1, 3, OIIO::TypeDesc::UINT8);
+        ASSERT_TRUE(out->open((dir / "wood.png").string(), spec));
+        unsigned char px[3] = {200, 100, 50};
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px));
+        out->close();
+    }
+    std::string gltf = test::twoQuadsGltf();
+    const std::string clay = R"("pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.4, 0.2, 1])";
+    ASSERT_NE(gltf.find(clay), std::string::npos);
+    gltf.replace(gltf.find(clay), clay.size(), clay + R"(, "baseColorTexture": {"index": 0})");
+    gltf.replace(gltf.find(R"("buffers")"), 0, R"("images": [{"uri": "wood.png"}], "textures": [{"source": 0}], )");
+    test::writeFile(dir / "textured.gltf", gltf);
+    Quiet q;
+    LoadedScene s = loadScene(dir / "textured.gltf", {}, q.logger);
+    EXPECT_TRUE(q.warnings.empty()) << q.warnings.front();
+    ASSERT_EQ(s.scene.textures.size(), 1u);
+    EXPECT_EQ(fs::path(s.scene.textures[0]).filename(), "wood.png");
+    EXPECT_EQ(materialOf(s.scene, "card").textureIndex, 0);
+    EXPECT_EQ(materialOf(s.scene, "lamp").textureIndex, -1);
+
+    // An image inside the file (a buffer view) is not read: one warning, the base colour alone.
+    gltf.replace(gltf.find(R"({"uri": "wood.png"})"), std::string(R"({"uri": "wood.png"})").size(),
+                 R"({"bufferView": 1, "mimeType": "image/png"})");
+    test::writeFile(dir / "embedded.gltf", gltf);
+    Quiet e;
+    LoadedScene embedded = loadScene(dir / "embedded.gltf", {}, e.logger);
+    EXPECT_EQ(materialOf(embedded.scene, "card").textureIndex, -1);
+    ASSERT_EQ(e.warnings.size(), 1u);
+    EXPECT_NE(e.warnings[0].find("embedded textures are not supported"), std::string::npos) << e.warnings[0];
+    EXPECT_NEAR(materialOf(embedded.scene, "card").kd.r, 0.96f * 0.8f, 1e-6f);
+}
+
+// The fuzz target's seeds (tests/fuzz/corpus_model: a format byte, then the file) load as they should.
+TEST(ModelFile, BinaryGltfColladaOffPlyAndStlSeedsLoad) {
+    const fs::path dir = test::tempDir();
+    struct Seed {
+        const char* name;
+        size_t triangles;
+    };
+    for (const Seed& seed : {Seed{"two_quads.glb", 4}, Seed{"triangle.dae", 1}, Seed{"quad.off", 2},
+                             Seed{"binary.ply", 2}, Seed{"binary.stl", 2}}) {
+        SCOPED_TRACE(seed.name);
+        std::ifstream in(fs::path(PENUMBRA_SOURCE_DIR) / "tests" / "fuzz" / "corpus_model" / seed.name, std::ios::binary);
+        std::stringstream bytes;
+        bytes << in.rdbuf();
+        ASSERT_GT(bytes.str().size(), 1u);
+        const fs::path file = test::writeFile(dir / seed.name, bytes.str().substr(1));
+        Quiet q;
+        LoadedScene s = loadScene(file, {}, q.logger);
+        EXPECT_EQ(s.scene.triangleCount(), seed.triangles);
+        if (std::string(seed.name) == "two_quads.glb") {
+            EXPECT_TRUE(materialOf(s.scene, "lamp").isEmissive());
+        }
+    }
+}
+
+TEST(ModelFile, StlAndPlyWithVertexColours) {
+    const fs::path dir = test::tempDir();
+    const fs::path stl = test::writeFile(dir / "quad.stl", R"(solid quad
+facet normal 0 0 1
+ outer loop
+  vertex 0 0 0
+  vertex 1 0 0
+  vertex 1 1 0
+ endloop
+endfacet
+facet normal 0 0 1
+ outer loop
+  vertex 0 0 0
+  vertex 1 1 0
+  vertex 0 1 0
+ endloop
+endfacet
+endsolid quad
+)");
+    Quiet q;
+    LoadedScene s = loadScene(stl, {}, q.logger);
+    EXPECT_EQ(s.scene.triangleCount(), 2u);
+    EXPECT_FALSE(s.camera.has_value());
+
+    // Per-vertex red and blue: each triangle's kd is the material's times its corners' mean colour.
+    const fs::path ply = test::writeFile(dir / "colours.ply", R"(ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+property uchar red
+property uchar green
+property uchar blue
+element face 2
+property list uchar int vertex_indices
+end_header
+0 0 0 255 0 0
+1 0 0 255 0 0
+1 1 0 255 0 0
+0 1 0 0 0 255
+3 0 1 2
+3 0 2 3
+)");
+    LoadedScene p = loadScene(ply, {}, q.logger);
+    ASSERT_EQ(p.scene.meshes.size(), 1u);
+    const TriangleMesh& m = p.scene.meshes[0];
+    ASSERT_EQ(m.faceMaterials.size(), 2u);
+    const Material& red = p.scene.materials[m.faceMaterials[0]];
+    const Material& mixed = p.scene.materials[m.faceMaterials[1]];
+    const Material& base = p.scene.materials[m.material];
+    EXPECT_GT(base.kd.r, 0.f);
+    EXPECT_NEAR(red.kd.r, base.kd.r, 1e-6f);
+    EXPECT_EQ(red.kd.g, 0.f);
+    EXPECT_EQ(red.kd.b, 0.f);
+    EXPECT_NEAR(mixed.kd.r, base.kd.r * 170.f / 255.f, 1e-5f);  // (255 + 255 + 0) / 3
+    EXPECT_NEAR(mixed.kd.b, base.kd.b * 85.f / 255.f, 1e-5f);
+}
+
+TEST(ModelFile, UnknownMalformedAndEmptyFilesAreErrorsNamingTheFile) {
+    const fs::path dir = test::tempDir();
+    test::writeFile(dir / "scene.xyz", "whatever\n");
+    std::string e = errorOf(dir / "scene.xyz");
+    EXPECT_NE(e.find("scene.xyz: unknown scene format '.xyz'"), std::string::npos) << e;
+    for (const char* ext : {".json", ".obj", ".ply", ".stl", ".gltf", ".glb", ".fbx", ".dae"})
+        EXPECT_NE(e.find(ext), std::string::npos) << ext << " missing from: " << e;
+
+    struct Case {
+        const char* name;
+        std::string text;
+    };
+    const Case cases[] = {{"broken.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n"},
+                          {"broken.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [{\"primitives\": 7}]}"},
+                          {"garbage.glb", std::string("glTF\x02\0\0\0\xff\xff\xff\x7f", 12)},
+                          {"garbage.fbx", std::string(300, '\x17')},
+                          {"empty.stl", ""},
+                          {"notriangles.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                              "property float z\nend_header\n0 0 0\n"}};
+    for (const Case& c : cases) {
+        test::writeFile(dir / c.name, c.text);
+        const std::string err = errorOf(dir / c.name);
+        EXPECT_NE(err.find((dir / c.name).string()), std::string::npos) << c.name << ": " << err;
+        EXPECT_EQ(err.find('\n'), std::string::npos) << err;
+    }
+}
+
+TEST(SharedScenes, StanfordBunnyPlyHasAllItsTriangles) {
+    const fs::path ply = test::sharedScenePath("bunny_stanford/bun_zipper.ply");
+    if (ply.empty()) GTEST_SKIP() << "../shared/scenes not present";
+    Quiet q;
+    LoadedScene s = loadScene(ply, {}, q.logger);
+    EXPECT_EQ(s.scene.triangleCount(), 69451u);
+    ASSERT_EQ(s.scene.meshes.size(), 1u);
+    EXPECT_EQ(s.scene.meshes[0].normals.size(), s.scene.meshes[0].positions.size()) << "smoothed";
+}
+
+}  // namespace
+}  // namespace penumbra

@@ -14,6 +14,7 @@ namespace penumbra {
 // used inside under their old names.
 using CropWindow = pnb::CropWindow;
 using LightSelection = pnb::LightSelection;
+using DirectLightSampling = pnb::DirectLightSampling;
 using RenderSettings = pnb::RenderSettings;
 
 /// Throws Error(InvalidArgument) naming the offending setting.

@@ -20,6 +20,7 @@ struct JobWire {
     std::int32_t lightSelection, aovs;
     std::uint64_t seed;
     float eye[3], lookAt[3], up[3], vfov, aperture, focusDistance;
+    std::int32_t directLight;
 };
 
 std::vector<char> gatherStrings(const std::string& mine, const std::vector<int>& lengths, int rank, int size,
@@ -95,6 +96,7 @@ std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank) {
         }
         w.lightSelection = s.lightSelection == pnb::LightSelection::Power ? 1 : 0;
         w.aovs = s.aovs ? 1 : 0;
+        w.directLight = static_cast<std::int32_t>(s.directLight);
         w.seed = s.seed;
         const pnb::Vec3* v[3] = {&c.eye, &c.lookAt, &c.up};
         float* d[3] = {w.eye, w.lookAt, w.up};
@@ -121,6 +123,7 @@ std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank) {
     if (w.hasCrop) s.crop = pnb::CropWindow{w.x0, w.y0, w.x1, w.y1};
     s.lightSelection = w.lightSelection ? pnb::LightSelection::Power : pnb::LightSelection::All;
     s.aovs = w.aovs != 0;
+    s.directLight = static_cast<pnb::DirectLightSampling>(w.directLight);
     s.seed = w.seed;
     pnb::Camera& c = job.camera;
     c.eye = {w.eye[0], w.eye[1], w.eye[2]};

@@ -77,7 +77,7 @@ ParseResult parseCommandLine(int argc, char** argv) {
     int width = 0, height = 0, spp = 0, lightSamples = 0, maxDepth = 0, threads = 0, tileSize = 0;
     uint64_t seed = 0;
     float fov = 0, aperture = 0, focus = 0;
-    std::string lightSelection;
+    std::string lightSelection, directLight;
 
     app.add_option("scene", o.scene, "Scene file (.obj or .json)")->required();
     app.add_option("-o,--output", o.output, "Output image (.exr .hdr .pfm .png .jpg .tif)")->required();
@@ -107,6 +107,9 @@ ParseResult parseCommandLine(int argc, char** argv) {
     app.add_option("--stats-json", o.statsJson, "Write render statistics as JSON to this file");
     app.add_flag("--strict", o.strict, "Treat skippable scene problems as errors");
     app.add_flag("-q,--quiet", o.quiet, "No progress and no summary");
+    app.add_option("--direct-light", directLight,
+                   "Area-light estimator: mis (light + BRDF samples, default), light (solid-angle light samples) "
+                   "or area (uniform-area light samples, the old estimator)");
 
     try {
         app.parse(argc, argv);
@@ -148,6 +151,11 @@ ParseResult parseCommandLine(int argc, char** argv) {
         if (lightSelection != "all" && lightSelection != "power")
             throw Error(ErrorCode::InvalidArgument, "--light-selection: expected all or power, got '" + lightSelection + "'");
         o.lightSelection = lightSelection;
+    }
+    if (!directLight.empty()) {
+        if (directLight != "mis" && directLight != "light" && directLight != "area")
+            throw Error(ErrorCode::InvalidArgument, "--direct-light: expected mis, light or area, got '" + directLight + "'");
+        o.directLight = directLight;
     }
     if (!std::isfinite(o.exposure)) throw Error(ErrorCode::InvalidArgument, "--exposure: must be finite");
     if (o.accel != "embree" && o.accel != "naive")

@@ -28,6 +28,7 @@ struct Options {
     bool quiet = false;
     bool strict = false;
     std::filesystem::path statsJson;
+    std::optional<std::string> directLight;  // mis, light or area
 };
 
 /// Parses argv. Returns the options, or an exit code when parsing ended the

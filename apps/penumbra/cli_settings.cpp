@@ -19,6 +19,10 @@ pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings s) {
         s.lightSelection = *o.lightSelection == "power" ? pnb::LightSelection::Power : pnb::LightSelection::All;
     s.crop = o.crop;
     s.aovs = o.aovs;
+    if (o.directLight)
+        s.directLight = *o.directLight == "area"    ? pnb::DirectLightSampling::Area
+                        : *o.directLight == "light" ? pnb::DirectLightSampling::Light
+                                                    : pnb::DirectLightSampling::Mis;
     return s;
 }
 

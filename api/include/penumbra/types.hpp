@@ -127,6 +127,14 @@ enum class LightSelection {
     Power,  ///< lightSamples samples in total, lights picked in proportion to power
 };
 
+/// How the integrator estimates the direct light of area lights
+/// (docs/rendering.md). Point and directional lights are exact in all three.
+enum class DirectLightSampling {
+    Mis,    ///< solid-angle light samples + Phong BRDF samples, power heuristic (default)
+    Light,  ///< solid-angle light samples only
+    Area,   ///< light samples uniform in area only: the estimator before issue 15, for comparisons
+};
+
 /// What to render. The same scene, camera and settings give a bit-identical
 /// image for any thread count, tile size and split into passes.
 struct RenderSettings {
@@ -143,6 +151,7 @@ struct RenderSettings {
     /// Also accumulate albedo, normal and depth of the first hit. Off unless
     /// asked for (the CLI's --aovs, docs/embedding.md): it costs memory.
     bool aovs = false;
+    DirectLightSampling directLight = DirectLightSampling::Mis;
 };
 
 // ---------------------------------------------------------------- rendering

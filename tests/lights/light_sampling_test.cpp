@@ -181,10 +181,19 @@ TEST(LightSampling, LargeMeshLightPicksByAreaAndFitsItsPdf) {
     ASSERT_GT(tris.size(), MeshAreaLight::kSolidAnglePickMax);
     MeshAreaLight light(s, 0, 0, tris);
     expectLightFits(s, light, Vec3f{0.1f, 0.05f, 0});
+    // Without the far triangle and seen from afar, the whole light is sampled by area.
+    Scene t = emitterScene(false);
+    m.positions.resize(base);
+    m.indices.resize(m.indices.size() - 3);
+    t.meshes.push_back(m);
+    tris.pop_back();
+    MeshAreaLight farLight(t, 0, 0, tris);
+    expectLightFits(t, farLight, Vec3f{0.3f, 0.2f, -5.f});
 }
 
-TEST(LightSampling, FarRectangleAndMeshLightsSampleByAreaAndFitTheirPdfs) {
-    // Their bounding spheres subtend less than kSolidAngleSamplingMinBound.
+TEST(LightSampling, FarRectangleSamplesByAreaAndFarSmallMeshLightFitsItsPdf) {
+    // The rectangle's bounding sphere subtends less than kSolidAngleSamplingMinBound
+    // (area sampling); a small mesh light still picks by solid angle.
     Scene s = emitterScene(false);
     s.rectangles.push_back(Rectangle{Vec3f{3.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.f}, Vec3f{0, 1.f, 0}, 0});
     ShapeAreaLight rect(s, ShapeAreaLight::Kind::Rectangle, 0);

@@ -137,15 +137,18 @@ def main():
             t_mis, t_ls = t[("mis", ls)], t[("area", ls)]
             slope = max((t[("area", ls2)] - t_ls) / (ls2 - ls), 1e-6)
             n_eq = max(ls, min(64 * ls, round(ls + (t_mis - t_ls) / slope)))
-            for _ in range(3):
+            for step in range(3):
                 t1, nrays, img = run(n_eq, "area", "area_eq")
                 t2, _, _ = run(n_eq, "area", "area_eq2")
                 t_eq, e_eq = min(t1, t2), rel_mse(img, ref)
-                if abs(t_eq / t_mis - 1) < 0.1 or n_eq == ls and t_eq > t_mis:
+                if abs(t_eq / t_mis - 1) < 0.1 or n_eq == ls and t_eq > t_mis or step == 2:
                     break
                 if t_eq > t_ls and n_eq > ls:
                     slope = (t_eq - t_ls) / (n_eq - ls)
-                n_eq = max(ls, min(64 * ls, round(ls + (t_mis - t_ls) / slope)))
+                n_next = max(ls, min(64 * ls, round(ls + (t_mis - t_ls) / slope)))
+                if n_next == n_eq:
+                    break
+                n_eq = n_next
             te = [t_eq]
             say(f"  {'area =t':<10} {n_eq:>9} {min(te):>8.3f} {nrays:>10} {e_eq:>11.4e} {e_eq / base:>8.3f}")
             e_mis = errs[("mis", ls)]

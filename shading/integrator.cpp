@@ -74,9 +74,15 @@ public:
     /// against the lane's BRDF samples with the power heuristic.
     void add(size_t lane, const ShadingPoint& sp, const LightSample& ls, float scale, float lightPdf, bool mis) {
         if (dot(ls.wi, sp.ng) <= 0.f) return;  // below the geometric surface
-        const Rgb f = phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi, ls.delta);
+        Rgb f;
+        if (mis && !ls.delta) {
+            const PhongSample e = phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi);
+            f = e.fCos;
+            scale *= powerHeuristic(1, lightPdf, 1, e.pdf);
+        } else {
+            f = phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi, ls.delta);
+        }
         if (f.isBlack()) return;
-        if (mis && !ls.delta) scale *= powerHeuristic(1, lightPdf, 1, phongPdf(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi));
         rays_[pending_] = std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point);
         weights_[pending_] = f * ls.L * (scale / ls.pdf);
         lanes_[pending_] = static_cast<uint8_t>(lane);

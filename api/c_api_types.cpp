@@ -25,6 +25,9 @@ PNB_SAME_VALUE(PNB_PHONG_NORMALIZED, pnb::PhongModel::Normalized);
 PNB_SAME_VALUE(PNB_PHONG_CLASSIC, pnb::PhongModel::Classic);
 PNB_SAME_VALUE(PNB_LIGHTS_ALL, pnb::LightSelection::All);
 PNB_SAME_VALUE(PNB_LIGHTS_POWER, pnb::LightSelection::Power);
+PNB_SAME_VALUE(PNB_DIRECT_LIGHT_MIS, pnb::DirectLightSampling::Mis);
+PNB_SAME_VALUE(PNB_DIRECT_LIGHT_LIGHT, pnb::DirectLightSampling::Light);
+PNB_SAME_VALUE(PNB_DIRECT_LIGHT_AREA, pnb::DirectLightSampling::Area);
 PNB_SAME_VALUE(PNB_BUILD_LOW, pnb::BuildQuality::Low);
 PNB_SAME_VALUE(PNB_BUILD_MEDIUM, pnb::BuildQuality::Medium);
 PNB_SAME_VALUE(PNB_BUILD_HIGH, pnb::BuildQuality::High);
@@ -117,6 +120,11 @@ pnb::RenderSettings in(const pnb_render_settings& s) {
                          "light_selection " + std::to_string(selection) + " is not a pnb_light_selection");
     r.lightSelection = selection == PNB_LIGHTS_POWER ? pnb::LightSelection::Power : pnb::LightSelection::All;
     r.aovs = s.aovs != 0;
+    const int direct = rawEnum(s.direct_light);
+    if (direct < PNB_DIRECT_LIGHT_MIS || direct > PNB_DIRECT_LIGHT_AREA)
+        throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                         "direct_light " + std::to_string(direct) + " is not a pnb_direct_light");
+    r.directLight = static_cast<pnb::DirectLightSampling>(direct);
     return r;
 }
 pnb_render_settings out(const pnb::RenderSettings& s) {
@@ -136,6 +144,7 @@ pnb_render_settings out(const pnb::RenderSettings& s) {
     r.crop_y1 = s.crop ? s.crop->y1 : 0;
     r.light_selection = s.lightSelection == pnb::LightSelection::Power ? PNB_LIGHTS_POWER : PNB_LIGHTS_ALL;
     r.aovs = s.aovs ? 1 : 0;
+    r.direct_light = static_cast<pnb_direct_light>(s.directLight);
     return r;
 }
 

@@ -81,6 +81,17 @@ pnb::LightSelection selectionFrom(const py::handle& value) {
     return value.cast<pnb::LightSelection>();
 }
 
+pnb::DirectLightSampling directLightFrom(const py::handle& value) {
+    if (py::isinstance<py::str>(value)) {
+        const std::string s = value.cast<std::string>();
+        if (s == "mis") return pnb::DirectLightSampling::Mis;
+        if (s == "light") return pnb::DirectLightSampling::Light;
+        if (s == "area") return pnb::DirectLightSampling::Area;
+        invalid("direct_light must be 'mis', 'light' or 'area', got '" + s + "'");
+    }
+    return value.cast<pnb::DirectLightSampling>();
+}
+
 py::object cropTuple(const std::optional<pnb::CropWindow>& c) {
     if (!c) return py::none();
     return py::make_tuple(c->x0, c->y0, c->x1, c->y1);
@@ -95,7 +106,9 @@ std::string settingsRepr(const pnb::RenderSettings& s) {
         r += ", crop=(" + std::to_string(s.crop->x0) + ", " + std::to_string(s.crop->y0) + ", " +
              std::to_string(s.crop->x1) + ", " + std::to_string(s.crop->y1) + ")";
     r += std::string(", light_selection='") + (s.lightSelection == pnb::LightSelection::Power ? "power" : "all") + "'";
-    r += std::string(", aovs=") + (s.aovs ? "True" : "False") + ")";
+    r += std::string(", aovs=") + (s.aovs ? "True" : "False");
+    const char* direct[] = {"mis", "light", "area"};
+    r += std::string(", direct_light='") + direct[static_cast<int>(s.directLight)] + "')";
     return r;
 }
 
@@ -132,6 +145,7 @@ pnb::RenderSettings settingsWith(pnb::RenderSettings s, const py::kwargs& kwargs
         else if (k == "crop") s.crop = cropFrom(value);
         else if (k == "light_selection") s.lightSelection = selectionFrom(value);
         else if (k == "aovs") s.aovs = value.cast<bool>();
+        else if (k == "direct_light") s.directLight = directLightFrom(value);
         else throw py::type_error("unexpected keyword argument '" + k + "'");
     }
     return s;
@@ -150,6 +164,12 @@ void bindValues(py::module_& m) {
     py::enum_<pnb::LightSelection>(m, "LightSelection")
         .value("All", pnb::LightSelection::All)
         .value("Power", pnb::LightSelection::Power);
+    py::enum_<pnb::DirectLightSampling>(m, "DirectLightSampling",
+                                        "Mis: light + BRDF samples (default); Light: light samples only; "
+                                        "Area: uniform-area light samples (the old estimator)")
+        .value("Mis", pnb::DirectLightSampling::Mis)
+        .value("Light", pnb::DirectLightSampling::Light)
+        .value("Area", pnb::DirectLightSampling::Area);
     py::enum_<pnb::BuildQuality>(m, "BuildQuality")
         .value("Low", pnb::BuildQuality::Low)
         .value("Medium", pnb::BuildQuality::Medium)
@@ -244,6 +264,10 @@ void bindValues(py::module_& m) {
             "light_selection", [](const pnb::RenderSettings& s) { return s.lightSelection; },
             [](pnb::RenderSettings& s, const py::object& v) { s.lightSelection = selectionFrom(v); })
         .def_readwrite("aovs", &pnb::RenderSettings::aovs, "also accumulate albedo, normal and depth")
+        .def_property(
+            "direct_light", [](const pnb::RenderSettings& s) { return s.directLight; },
+            [](pnb::RenderSettings& s, const py::object& v) { s.directLight = directLightFrom(v); },
+            "'mis', 'light' or 'area' (or the enum): the area-light estimator")
         .def("replace", [](const pnb::RenderSettings& s, const py::kwargs& kw) { return settingsWith(s, kw); },
              "A copy with the given settings changed.")
         .def("validate", [](const pnb::RenderSettings& s) { pnb::validate(s); },

@@ -28,6 +28,9 @@ PNB_SAME_VALUE(PNB_LIGHTS_ALL, pnb::LightSelection::All);
 PNB_SAME_VALUE(PNB_LIGHTS_POWER, pnb::LightSelection::Power);
 PNB_SAME_VALUE(PNB_INTEGRATOR_WHITTED, pnb::IntegratorKind::Whitted);
 PNB_SAME_VALUE(PNB_INTEGRATOR_PATH, pnb::IntegratorKind::Path);
+PNB_SAME_VALUE(PNB_DIRECT_LIGHT_MIS, pnb::DirectLightSampling::Mis);
+PNB_SAME_VALUE(PNB_DIRECT_LIGHT_LIGHT, pnb::DirectLightSampling::Light);
+PNB_SAME_VALUE(PNB_DIRECT_LIGHT_AREA, pnb::DirectLightSampling::Area);
 PNB_SAME_VALUE(PNB_BUILD_LOW, pnb::BuildQuality::Low);
 PNB_SAME_VALUE(PNB_BUILD_MEDIUM, pnb::BuildQuality::Medium);
 PNB_SAME_VALUE(PNB_BUILD_HIGH, pnb::BuildQuality::High);
@@ -72,8 +75,8 @@ PNB_SAME_TYPE(threads, threads);
 PNB_SAME_TYPE(tile_size, tileSize);
 PNB_SAME_TYPE(crop_x0, crop->x0);
 #undef PNB_SAME_TYPE
-static_assert(sizeof(pnb_render_settings) == 72, "pnb_render_settings changed: update in()/out() and RenderSettings");
-static_assert(sizeof(pnb::RenderSettings) == 72, "RenderSettings changed: update pnb_render_settings and in()/out()");
+static_assert(sizeof(pnb_render_settings) == 80, "pnb_render_settings changed: update in()/out() and RenderSettings");
+static_assert(sizeof(pnb::RenderSettings) == 80, "RenderSettings changed: update pnb_render_settings and in()/out()");
 // pnb_prepared_info grows at its end only, so the existing fields keep their offsets.
 static_assert(offsetof(pnb_prepared_info, default_light_added) > offsetof(pnb_prepared_info, build_seconds) &&
                   std::is_same_v<decltype(pnb_prepared_info::default_light_added), int>,
@@ -129,6 +132,11 @@ pnb::RenderSettings in(const pnb_render_settings& s) {
         throw pnb::Error(pnb::ErrorCode::InvalidArgument,
                          "integrator " + std::to_string(integrator) + " is not a pnb_integrator");
     r.integrator = integrator == PNB_INTEGRATOR_PATH ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
+    const int direct = rawEnum(s.direct_light);
+    if (direct < PNB_DIRECT_LIGHT_MIS || direct > PNB_DIRECT_LIGHT_AREA)
+        throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                         "direct_light " + std::to_string(direct) + " is not a pnb_direct_light");
+    r.directLight = static_cast<pnb::DirectLightSampling>(direct);
     return r;
 }
 pnb_render_settings out(const pnb::RenderSettings& s) {
@@ -149,6 +157,7 @@ pnb_render_settings out(const pnb::RenderSettings& s) {
     r.light_selection = s.lightSelection == pnb::LightSelection::Power ? PNB_LIGHTS_POWER : PNB_LIGHTS_ALL;
     r.aovs = s.aovs ? 1 : 0;
     r.integrator = s.integrator == pnb::IntegratorKind::Path ? PNB_INTEGRATOR_PATH : PNB_INTEGRATOR_WHITTED;
+    r.direct_light = static_cast<pnb_direct_light>(s.directLight);
     return r;
 }
 

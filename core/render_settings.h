@@ -15,6 +15,7 @@ namespace penumbra {
 using CropWindow = pnb::CropWindow;
 using LightSelection = pnb::LightSelection;
 using IntegratorKind = pnb::IntegratorKind;
+using DirectLightSampling = pnb::DirectLightSampling;
 using RenderSettings = pnb::RenderSettings;
 
 /// Throws Error(InvalidArgument) naming the offending setting.

@@ -35,6 +35,14 @@ float areaPdfToSolidAngle(const Vec3f& p, const Vec3f& point, const Vec3f& n, fl
     return std::isfinite(pdf) ? pdf : 0.f;
 }
 
+bool subtendsAtLeast(const Vec3f& c, float r2, const Vec3f& p, float omega) {
+    const float d2 = lengthSquared(c - p);
+    if (!(d2 > r2)) return true;
+    // 2 pi (1 - cos theta) with 1 - cos = s / (1 + sqrt(1 - s)), s = r^2 / d^2.
+    const float s = r2 / d2;
+    return 2.f * kPi * s / (1.f + std::sqrt(1.f - s)) >= omega;
+}
+
 namespace {
 
 std::optional<LightSample> solidAngleSample(const Vec3f& p, const Vec3f& point, float solidAngle, const Rgb& Le) {
@@ -69,6 +77,8 @@ ShapeAreaLight::ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index) : 
         const Rectangle& q = scene.rectangles[index];
         frame_.n = rectangleNormal(q);
         orthogonalEdges_ = std::fabs(dot(q.a, q.b)) <= 1e-5f * length(q.a) * length(q.b);
+        boundCenter_ = q.p0 + 0.5f * (q.a + q.b);
+        boundRadius2_ = 0.25f * std::max(lengthSquared(q.a + q.b), lengthSquared(q.a - q.b));
     }
     if (kind == Kind::Disk) frame_ = Frame::fromNormal(scene.disks[index].normal);
 }
@@ -84,7 +94,7 @@ bool ShapeAreaLight::emitsTowards(const Vec3f& p) const {
 }
 
 bool ShapeAreaLight::sphericalRectangleFrom(const Vec3f& p, float* solidAngle) const {
-    if (!orthogonalEdges_) return false;
+    if (!orthogonalEdges_ || !subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound)) return false;
     const Rectangle& q = scene_.rectangles[index_];
     const SphericalRectangle sr(p, q.p0, q.a, q.b);
     *solidAngle = sr.solidAngle();
@@ -94,7 +104,9 @@ bool ShapeAreaLight::sphericalRectangleFrom(const Vec3f& p, float* solidAngle) c
 std::optional<LightSample> ShapeAreaLight::sample(const Vec3f& p, Vec2f u) const {
     switch (kind_) {
         case Kind::Rectangle: {
-            if (!emitsTowards(p) || !orthogonalEdges_) break;
+            if (!emitsTowards(p) || !orthogonalEdges_ ||
+                !subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound))
+                break;
             const Rectangle& q = scene_.rectangles[index_];
             const SphericalRectangle sr(p, q.p0, q.a, q.b);
             if (sr.solidAngle() < kSphericalMinSolidAngle) break;
@@ -104,7 +116,7 @@ std::optional<LightSample> ShapeAreaLight::sample(const Vec3f& p, Vec2f u) const
             const Sphere& s = scene_.spheres[index_];
             if (auto c = sampleSphereCone(p, s.center, s.radius, u))
                 return LightSample{Le_, c->wi, c->point, length(c->point - p), c->pdf, false};
-            break;  // inside: by area
+            break;  // inside or on the sphere: by area
         }
         case Kind::Disk: break;
     }
@@ -167,6 +179,16 @@ MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t materia
     }
     meshTriangles_ = std::move(triangles);
     totalArea_ = static_cast<float>(acc);
+    Bounds3f b;
+    for (const Triangle& t : triangles_) {
+        b.extend(t.p0);
+        b.extend(t.p0 + t.e1);
+        b.extend(t.p0 + t.e2);
+    }
+    if (!triangles_.empty()) {
+        boundCenter_ = b.center();
+        boundRadius2_ = 0.25f * lengthSquared(b.diagonal());
+    }
 }
 
 size_t MeshAreaLight::pick(Vec2f& u) const {
@@ -194,36 +216,82 @@ float MeshAreaLight::sphericalSolidAngle(size_t i, const Vec3f& p) const {
     return omega >= kSphericalMinSolidAngle ? omega : 0.f;
 }
 
-std::optional<LightSample> MeshAreaLight::sample(const Vec3f& p, Vec2f u) const {
-    if (triangles_.empty() || !(totalArea_ > 0.f)) return std::nullopt;
-    const size_t i = pick(u);
+float MeshAreaLight::solidAngles(const Vec3f& p, float* omegas) const {
+    float total = 0.f;
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+        const Triangle& t = triangles_[i];
+        // A point in the plane of one of the light's triangles (a shading
+        // point on the light itself, on an emitter that also reflects) sees
+        // that triangle and its coplanar neighbours edge-on, where the solid
+        // angle formula is 0/0 on shared edges. Such points are sampled by
+        // area (return 0: no solid-angle pick), in sample() and pdf() alike.
+        const float h = dot(t.n, p - t.p0);
+        if (std::fabs(h) <= 1e-4f * std::sqrt(triangleArea(i))) return 0.f;
+        const bool emits = twoSided_ || dot(t.n, p - t.p0) > 0.f;
+        omegas[i] = emits ? triangleSolidAngle(p, t.p0, t.p0 + t.e1, t.p0 + t.e2) : 0.f;
+        total += omegas[i];
+    }
+    return total;
+}
+
+std::optional<LightSample> MeshAreaLight::sampleTriangle(size_t i, const Vec3f& p, Vec2f u, float share,
+                                                         float omega) const {
     const Triangle& t = triangles_[i];
     if (!twoSided_ && !(dot(t.n, p - t.p0) > 0.f)) return std::nullopt;
-    const float omega = sphericalSolidAngle(i, p);
+    omega = omega < 0.f ? sphericalSolidAngle(i, p) : (omega >= kSphericalMinSolidAngle ? omega : 0.f);
     if (omega > 0.f) {
         const auto s = sampleSphericalTriangle(p, t.p0, t.p0 + t.e1, t.p0 + t.e2, u);
         if (!s) return std::nullopt;
-        // pdf = P(triangle) / solid angle, P = its share of the light's area.
-        const float share = triangleArea(i) / totalArea_;
-        auto ls = solidAngleSample(p, s->point, omega, Le_);
-        if (ls) ls->pdf *= share;
-        return ls;
+        // pdf = P(triangle) / its solid angle.
+        return solidAngleSample(p, s->point, omega / share, Le_);
     }
     const Vec2f b = squareToTriangle(u);
-    // Uniform over the whole light's area: p_A = 1 / total area.
-    const SurfaceSample s{t.p0 + b.x * t.e1 + b.y * t.e2, t.n, 1.f / totalArea_};
+    const SurfaceSample s{t.p0 + b.x * t.e1 + b.y * t.e2, t.n, share / triangleArea(i)};
     return areaLightSample(p, s, Le_, twoSided_);
+}
+
+float MeshAreaLight::trianglePdf(size_t i, const Vec3f& p, const Vec3f& point, float share, float omega) const {
+    const Triangle& t = triangles_[i];
+    if (!twoSided_ && !(dot(t.n, p - t.p0) > 0.f)) return 0.f;
+    omega = omega < 0.f ? sphericalSolidAngle(i, p) : (omega >= kSphericalMinSolidAngle ? omega : 0.f);
+    if (omega > 0.f) return share / omega;
+    return areaPdfToSolidAngle(p, point, t.n, share / triangleArea(i), twoSided_);
+}
+
+std::optional<LightSample> MeshAreaLight::sample(const Vec3f& p, Vec2f u) const {
+    if (triangles_.empty() || !(totalArea_ > 0.f)) return std::nullopt;
+    if (triangles_.size() <= kSolidAnglePickMax) {
+        float omegas[kSolidAnglePickMax];
+        const float total = solidAngles(p, omegas);
+        if (!(total > 0.f)) return sampleArea(p, u);
+        // Pick by solid angle with u.x, then rescale u.x for reuse (as pick()).
+        const float target = u.x * total;
+        float lo = 0.f;
+        size_t i = 0;
+        while (i + 1 < triangles_.size() && (omegas[i] == 0.f || lo + omegas[i] <= target)) lo += omegas[i++];
+        while (omegas[i] == 0.f) --i;  // target at the very top: the last triangle with a share
+        u.x = std::clamp((target - lo) / omegas[i], 0.f, 0x1.fffffep-1f);
+        return sampleTriangle(i, p, u, omegas[i] / total, omegas[i]);
+    }
+    if (!subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound)) return sampleArea(p, u);
+    const size_t i = pick(u);
+    return sampleTriangle(i, p, u, triangleArea(i) / totalArea_, -1.f);
 }
 
 float MeshAreaLight::pdf(const Vec3f& p, const Hit& onLight) const {
     const auto it = std::lower_bound(meshTriangles_.begin(), meshTriangles_.end(), onLight.ref.prim);
     if (it == meshTriangles_.end() || *it != onLight.ref.prim) return 0.f;
     const size_t i = size_t(it - meshTriangles_.begin());
-    const Triangle& t = triangles_[i];
-    if (!twoSided_ && !(dot(t.n, p - t.p0) > 0.f)) return 0.f;
-    const float omega = sphericalSolidAngle(i, p);
-    if (omega > 0.f) return triangleArea(i) / totalArea_ / omega;
-    return areaPdfToSolidAngle(p, onLight.p, t.n, 1.f / totalArea_, twoSided_);
+    if (triangles_.size() <= kSolidAnglePickMax) {
+        float omegas[kSolidAnglePickMax];
+        const float total = solidAngles(p, omegas);
+        if (!(total > 0.f)) return areaPdfToSolidAngle(p, onLight.p, triangles_[i].n, 1.f / totalArea_, twoSided_);
+        if (!(omegas[i] > 0.f)) return 0.f;
+        return trianglePdf(i, p, onLight.p, omegas[i] / total, omegas[i]);
+    }
+    if (!subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound))
+        return areaPdfToSolidAngle(p, onLight.p, triangles_[i].n, 1.f / totalArea_, twoSided_);
+    return trianglePdf(i, p, onLight.p, triangleArea(i) / totalArea_, -1.f);
 }
 
 std::optional<LightSample> MeshAreaLight::sampleArea(const Vec3f& p, Vec2f u) const {

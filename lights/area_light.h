@@ -19,6 +19,19 @@ namespace penumbra {
 /// spherical trigonometry loses precision.
 inline constexpr float kSphericalMinSolidAngle = 1e-3f;
 
+/// Rectangles and large mesh lights whose bounding sphere subtends less than
+/// this (steradians) at the shading point are sampled by area: seen that
+/// small, 1/d^2 and cos(theta') hardly vary over them, so the spherical
+/// sampling's trigonometry (a few hundred ns a sample) buys little
+/// (measured: scripts/bench_noise.py, docs/benchmarks.md). Small mesh
+/// lights (quads, lamps of a few triangles) are always sampled by solid
+/// angle: there the measured noise halves.
+inline constexpr float kSolidAngleSamplingMinBound = 0.5f;
+
+/// Whether a sphere (centre c, squared radius r2) subtends at least `omega`
+/// at p (always when p is inside it).
+bool subtendsAtLeast(const Vec3f& c, float r2, const Vec3f& p, float omega);
+
 /// Shared estimator step: turns a point sampled on an emitter (with its normal
 /// and area pdf) into a solid-angle light sample for shading point p.
 /// One-sided emitters emit on the side their normal faces.
@@ -54,13 +67,21 @@ private:
     Frame frame_;
     float pdfArea_;
     bool orthogonalEdges_ = false;  // rectangles: spherical sampling needs a true rectangle
+    Vec3f boundCenter_;             // rectangles: bounding sphere
+    float boundRadius2_ = 0.f;
 };
 
 /// The emissive triangles of one mesh that share one material. A triangle is
-/// picked in proportion to its area, then sampled by solid angle when it
+/// picked in proportion to the solid angle it subtends at the shading point
+/// (lights of at most kSolidAnglePickMax triangles: quads, boxes) or to its
+/// area (larger meshes, where that would cost too much per sample; the whole
+/// light by area when its bounding sphere subtends less than
+/// kSolidAngleSamplingMinBound), then sampled by solid angle when it
 /// subtends at least kSphericalMinSolidAngle, else by area.
 class MeshAreaLight final : public Light {
 public:
+    static constexpr size_t kSolidAnglePickMax = 16;
+
     MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles);
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     float pdf(const Vec3f& p, const Hit& onLight) const override;
@@ -81,6 +102,13 @@ private:
     float triangleArea(size_t i) const { return cdf_[i] - (i ? cdf_[i - 1] : 0.f); }
     /// Solid angle of triangle i from p when it is sampled by solid angle, else 0.
     float sphericalSolidAngle(size_t i, const Vec3f& p) const;
+    /// Small lights: the solid angle of every triangle that emits towards p
+    /// (into omegas), and their sum.
+    float solidAngles(const Vec3f& p, float* omegas) const;
+    /// Sample and pdf of triangle i chosen with probability `share`; omega:
+    /// its solid angle from p when already known (< 0: compute it).
+    std::optional<LightSample> sampleTriangle(size_t i, const Vec3f& p, Vec2f u, float share, float omega) const;
+    float trianglePdf(size_t i, const Vec3f& p, const Vec3f& point, float share, float omega) const;
 
     Rgb Le_;
     bool twoSided_;
@@ -88,6 +116,8 @@ private:
     std::vector<uint32_t> meshTriangles_;  // the mesh's triangle index of each, ascending
     std::vector<float> cdf_;  // cumulative areas, cdf_[i] = sum of areas of triangles [0, i]
     float totalArea_ = 0.f;
+    Vec3f boundCenter_;  // bounding sphere of all the triangles
+    float boundRadius2_ = 0.f;
 };
 
 }  // namespace penumbra

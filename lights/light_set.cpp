@@ -56,9 +56,35 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) {
         }
     }
     areaLights_ = lights_.size();
+    // Bounding spheres of the area lights, in the order they were added.
+    const auto addBounds = [&](const Bounds3f& b) {
+        bounds_.push_back({b.center(), 0.25f * lengthSquared(b.diagonal())});
+    };
+    for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
+        if (rectangleLight_[i] >= 0) addBounds(penumbra::bounds(scene.rectangles[i]));
+    for (uint32_t i = 0; i < scene.disks.size(); ++i)
+        if (diskLight_[i] >= 0) addBounds(penumbra::bounds(scene.disks[i]));
+    for (uint32_t i = 0; i < scene.spheres.size(); ++i)
+        if (sphereLight_[i] >= 0) bounds_.push_back({scene.spheres[i].center, scene.spheres[i].radius * scene.spheres[i].radius});
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m)
+        for (const auto& [mat, light] : meshLights_[m]) {
+            Bounds3f b;
+            const TriangleMesh& mesh = scene.meshes[m];
+            for (uint32_t t = 0; t < mesh.triangleCount(); ++t)
+                if (mesh.materialOf(t) == mat) {
+                    Vec3f p0, p1, p2;
+                    mesh.vertices(t, p0, p1, p2);
+                    b.extend(p0);
+                    b.extend(p1);
+                    b.extend(p2);
+                }
+            addBounds(b);
+            (void)light;
+        }
 
     const Bounds3f b = scene.bounds();
     const float radius = b.empty() ? 1.f : 0.5f * length(b.diagonal());
+    bounds_.resize(lights_.size() + scene.pointLights.size() + scene.directionalLights.size());
     for (const auto& p : scene.pointLights) lights_.push_back(std::make_unique<PointLightSource>(p));
     for (const auto& d : scene.directionalLights) lights_.push_back(std::make_unique<DirectionalLightSource>(d, radius));
     if (scene.environment) {
@@ -96,6 +122,16 @@ LightSet::Pick LightSet::pickByPower(float u) const {
     i = std::min(i, powerCdf_.size() - 1);
     const float lo = i ? powerCdf_[i - 1] : 0.f;
     return {i, powerCdf_[i] - lo};
+}
+
+float LightSet::boundingSolidAngle(size_t i, const Vec3f& p) const {
+    const BoundingSphere& b = bounds_[i];
+    if (b.radius2 < 0.f) return 0.f;
+    const float d2 = lengthSquared(b.center - p);
+    if (!(d2 > b.radius2)) return 4.f * kPi;
+    // 2 pi (1 - cos) with 1 - cos = s / (1 + sqrt(1 - s)), s = sin^2 = r^2 / d^2.
+    const float s = b.radius2 / d2;
+    return 2.f * kPi * s / (1.f + std::sqrt(1.f - s));
 }
 
 std::optional<size_t> LightSet::lightOf(const Hit& hit) const {

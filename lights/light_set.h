@@ -42,6 +42,11 @@ public:
     /// back of a one-sided emitter.
     std::optional<size_t> lightOf(const Hit& hit) const;
 
+    /// An upper bound of the solid angle area light i subtends at p, from its
+    /// bounding sphere (4 pi inside it; 0 for delta lights). Cheap: for
+    /// deciding where BRDF samples pay.
+    float boundingSolidAngle(size_t i, const Vec3f& p) const;
+
     size_t areaLightCount() const { return areaLights_; }
     float totalEmitterArea() const { return totalArea_; }
 
@@ -55,6 +60,11 @@ private:
     // mesh its (material, light index) pairs.
     std::vector<int32_t> rectangleLight_, diskLight_, sphereLight_;
     std::vector<std::vector<std::pair<uint32_t, uint32_t>>> meshLights_;
+    struct BoundingSphere {
+        Vec3f center;
+        float radius2 = -1.f;  // < 0: delta light
+    };
+    std::vector<BoundingSphere> bounds_;
     std::vector<float> powerCdf_;  // normalised, last = 1
     size_t areaLights_ = 0;
     float totalArea_ = 0.f;

@@ -12,18 +12,26 @@ double oneMinusCosMax(double sin2) { return sin2 / (1.0 + std::sqrt(std::max(0.0
 
 constexpr double kTwoPi = 6.28318530717958647692;
 
+// The cone is used only from points clearly outside the sphere. A point on
+// the sphere itself (a hit on an emitting sphere that also reflects, or a
+// shading point on the inside of an emitting enclosure) lies at d = r up to
+// rounding, on either side; the cone of such a point degenerates (sin = 1)
+// and its pdf would describe the wrong side. Those points are sampled by
+// area, which is exact from anywhere.
+constexpr double kConeMinDistance2 = 1.001;  // (d / r)^2
+
 }  // namespace
 
 float sphereConePdf(const Vec3f& o, const Vec3f& center, float radius) {
     const double d2 = double(lengthSquared(center - o)), r2 = double(radius) * radius;
-    if (!(d2 > r2)) return 0.f;
+    if (!(d2 > r2 * kConeMinDistance2)) return 0.f;
     return float(1.0 / (kTwoPi * oneMinusCosMax(r2 / d2)));
 }
 
 std::optional<SphereConeSample> sampleSphereCone(const Vec3f& o, const Vec3f& center, float radius, Vec2f u) {
     const Vec3f toCenter = center - o;
     const double d2 = double(lengthSquared(toCenter)), r2 = double(radius) * radius;
-    if (!(d2 > r2)) return std::nullopt;
+    if (!(d2 > r2 * kConeMinDistance2)) return std::nullopt;
     const double sin2Max = r2 / d2, sinMax = std::sqrt(sin2Max);
     const double omc = oneMinusCosMax(sin2Max);
     // cos(theta) uniform in [cos(theta_max), 1]; 1 - cos kept for precision.

@@ -31,21 +31,36 @@ SphericalRectangle::SphericalRectangle(const Vec3f& o, const Vec3f& s, const Vec
         return std::array<double, 3>{a / l, b / l, c / l};
     };
     const auto n0 = unit(0, z0_, -y0_), n1 = unit(-z0_, 0, x1_), n2 = unit(0, -z0_, y1_), n3 = unit(z0_, 0, -x0_);
-    const auto angle = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
-        return std::acos(std::clamp(-(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]), -1.0, 1.0));
+    // The interior angles g_i as unit complex numbers (cos g, sin g), g in
+    // [0, pi]: their sums and differences then take products, not acos.
+    struct Angle {
+        double c, s;
     };
-    const double g0 = angle(n0, n1), g1 = angle(n1, n2), g2 = angle(n2, n3), g3 = angle(n3, n0);
+    const auto angle = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+        const double c = std::clamp(-(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]), -1.0, 1.0);
+        return Angle{c, std::sqrt(std::max(0.0, 1.0 - c * c))};
+    };
+    const auto times = [](Angle a, Angle b) { return Angle{a.c * b.c - a.s * b.s, a.s * b.c + a.c * b.s}; };
+    const Angle g01 = times(angle(n0, n1), angle(n1, n2)), g23 = times(angle(n2, n3), angle(n3, n0));
     b0_ = n0[2];
     b1_ = n2[2];
-    k_ = 2.0 * 3.14159265358979323846 - g2 - g3;
-    S_ = std::max(0.0, g0 + g1 - k_);
+    // k = 2 pi - g2 - g3: (cos k, sin k) = conj(g2 g3). S = g0 + g1 + g2 + g3 - 2 pi in [0, 2 pi).
+    cosK_ = g23.c;
+    sinK_ = -g23.s;
+    const Angle sum = times(g01, g23);
+    S_ = std::atan2(sum.s, sum.c);
+    // A rounding error below 0 is a tiny solid angle, not one of almost 2 pi.
+    if (S_ < 0) S_ = S_ > -1e-6 ? 0.0 : S_ + 2.0 * 3.14159265358979323846;
+    if (!std::isfinite(S_)) S_ = 0;
 }
 
 Vec3f SphericalRectangle::sample(Vec2f u) const {
     // x by inverting the solid angle of the part of the rectangle left of x...
-    const double au = double(u.x) * S_ + k_;
-    const double sinAu = std::sin(au);
-    const double fu = std::fabs(sinAu) > 1e-300 ? (std::cos(au) * b0_ - b1_) / sinAu : 1e300;
+    // au = u.x S + k, by the angle-sum formulas from (cos k, sin k).
+    const double phi = double(u.x) * S_;
+    const double cp = std::cos(phi), sp = std::sin(phi);
+    const double cosAu = cp * cosK_ - sp * sinK_, sinAu = sp * cosK_ + cp * sinK_;
+    const double fu = std::fabs(sinAu) > 1e-300 ? (cosAu * b0_ - b1_) / sinAu : 1e300;
     double cu = std::copysign(1.0, fu) / std::sqrt(fu * fu + b0_ * b0_);
     cu = std::clamp(cu, -1.0, 1.0);
     const double xu = std::clamp(-(cu * z0_) / std::max(std::sqrt(1.0 - cu * cu), 1e-300), x0_, x1_);

@@ -20,7 +20,7 @@ public:
 private:
     Vec3f o_, x_, y_, z_;
     double z0_ = 0, x0_ = 0, y0_ = 0, x1_ = 0, y1_ = 0;
-    double b0_ = 0, b1_ = 0, k_ = 0, S_ = 0;
+    double b0_ = 0, b1_ = 0, cosK_ = 1, sinK_ = 0, S_ = 0;
 };
 
 }  // namespace penumbra

@@ -189,7 +189,8 @@ def main():
     out.append("\n### Raw output of the anchors (`docs/bench_anchors.txt`; all runs in `docs/bench_anchors.json`)\n\n")
     out.append("```\n" + anchors_log.rstrip() + "\n```\n")
     # Sections measured by separate runs, each with its own commands and output.
-    for part in ("benchmarks_doc_scale.md", "benchmarks_doc_loading.md", "benchmarks_doc_instancing.md"):
+    for part in ("benchmarks_doc_scale.md", "benchmarks_doc_loading.md", "benchmarks_doc_instancing.md",
+                 "benchmarks_doc_noise.md"):
         path = ROOT / "scripts" / part
         if path.exists():
             out.append("\n" + path.read_text())

@@ -4,7 +4,9 @@
 #include "core/texture_cache.h"
 #include "lights/environment_light.h"
 #include "shading/dielectric.h"
+#include "shading/mis.h"
 #include "shading/phong.h"
+#include "shading/phong_sampling.h"
 
 #include <algorithm>
 #include <limits>
@@ -84,17 +86,28 @@ struct PathLane {
 namespace {
 
 // Shadow rays of a batch's shading points, traced 16 at a time as packets.
-// Each ray carries the weight f * L / pdf of its sample and the lane it
-// belongs to; flush() adds the weights of the unoccluded ones to their
-// lanes' sums in the order they were queued, which is each lane's sample
-// order, so a lane's sum does not depend on the other lanes in the batch.
+// Each ray carries the weight f * L / pdf of its sample (times its MIS
+// weight) and the lane it belongs to; flush() adds the weights of the
+// unoccluded ones to their lanes' sums in the order they were queued, which
+// is each lane's sample order, so a lane's sum does not depend on the other
+// lanes in the batch.
 class ShadowQueue {
 public:
     ShadowQueue(const Accelerator& accel, RayCounts& counts, Rgb* sums) : accel_(accel), counts_(counts), sums_(sums) {}
 
-    void add(size_t lane, const ShadingPoint& sp, const LightSample& ls, float scale) {
+    /// lightPdf: the light-sampling pdf of the sample's direction (its solid
+    /// angle pdf times the light's selection probability); mis: weigh it
+    /// against the lane's BRDF samples with the power heuristic.
+    void add(size_t lane, const ShadingPoint& sp, const LightSample& ls, float scale, float lightPdf, bool mis) {
         if (dot(ls.wi, sp.ng) <= 0.f) return;  // below the geometric surface
-        const Rgb f = phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi, ls.delta);
+        Rgb f;
+        if (mis && !ls.delta) {
+            const PhongSample e = phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi);
+            f = e.fCos;
+            scale *= powerHeuristic(1, lightPdf, 1, e.pdf);
+        } else {
+            f = phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi, ls.delta);
+        }
         if (f.isBlack()) return;
         rays_[pending_] = std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point);
         weights_[pending_] = f * ls.L * (scale / ls.pdf);
@@ -123,6 +136,90 @@ private:
     uint32_t pending_ = 0;
 };
 
+// BRDF-sampled rays of a batch's shading points, traced 16 at a time as
+// packets (closest hit). A ray that reaches the emitting side of a light adds
+// f cos / pdf * Le times its power-heuristic weight against the light
+// samples of that light; the sums are kept apart from the shadow queue's and
+// filled in queue order, so determinism holds as there. These rays only
+// estimate direct light: the path does not continue along them, so nothing
+// the integrator adds for camera and mirror rays is counted twice.
+class BrdfQueue {
+public:
+    BrdfQueue(const Accelerator& accel, const Scene& scene, const LightSet& lights, bool powerSelection,
+              RayCounts& counts, Rgb* sums)
+        : accel_(accel), scene_(scene), lights_(lights), power_(powerSelection), counts_(counts), sums_(sums) {}
+
+    void add(size_t lane, const ShadingPoint& sp, const PhongSample& s) {
+        if (dot(s.wi, sp.ng) <= 0.f) return;  // below the geometric surface
+        rays_[pending_] = spawnRay(sp.p, sp.ng, s.wi);
+        origins_[pending_] = sp.p;
+        weights_[pending_] = s.fCos * (1.f / s.pdf);
+        pdfs_[pending_] = s.pdf;
+        lanes_[pending_] = static_cast<uint8_t>(lane);
+        if (++pending_ == kPacket) flush();
+    }
+
+    void flush() {
+        if (pending_ == 0) return;
+        accel_.intersectBatch(std::span<const Ray>(rays_, pending_), std::span<std::optional<Hit>>(hits_, pending_));
+        counts_.shadow += pending_;
+        const EnvironmentLight* env = lights_.environment();
+        for (uint32_t i = 0; i < pending_; ++i) {
+            if (!hits_[i]) {
+                // Escaped: it reaches the environment light (the set's last light), if any.
+                if (!env) continue;
+                float lightPdf = env->pdf(rays_[i].d);
+                if (power_) lightPdf *= lights_.powerProbability(lights_.size() - 1);
+                sums_[lanes_[i]] += weights_[i] * env->radiance(rays_[i].d) * powerHeuristic(1, pdfs_[i], 1, lightPdf);
+                continue;
+            }
+            const Hit& hit = *hits_[i];
+            const Material& m = scene_.material(hit.material);
+            if (!m.isEmissive() || !(dot(rays_[i].d, hit.ng) < 0.f || m.twoSidedEmission)) continue;
+            const std::optional<size_t> light = lights_.lightOf(hit);
+            if (!light) continue;  // emissive, but no light: light samples never see it either
+            float lightPdf = lights_[*light].pdf(origins_[i], hit);
+            if (power_) lightPdf *= lights_.powerProbability(*light);
+            sums_[lanes_[i]] += weights_[i] * Rgb(m.ke) * powerHeuristic(1, pdfs_[i], 1, lightPdf);
+        }
+        pending_ = 0;
+    }
+
+private:
+    static constexpr uint32_t kPacket = 16;
+    const Accelerator& accel_;
+    const Scene& scene_;
+    const LightSet& lights_;
+    bool power_;
+    RayCounts& counts_;
+    Rgb* sums_;
+    Ray rays_[kPacket];
+    std::optional<Hit> hits_[kPacket];
+    Vec3f origins_[kPacket];
+    Rgb weights_[kPacket];
+    float pdfs_[kPacket];
+    uint8_t lanes_[kPacket];
+    uint32_t pending_ = 0;
+};
+
+// Solid angle (sr) from which a light counts as large for a Lambertian point.
+constexpr float kLargeLightSolidAngle = 1.f;
+
+// Whether a shading point also takes BRDF samples under MIS: where the Phong
+// lobe is glossy, or where some light may subtend a large solid angle (an
+// environment always does). A
+// Lambertian point under small lights gains little over solid-angle light
+// samples (they cover each light uniformly; only the cosine varies, and
+// little over a small light) while a BRDF sample costs a closest-hit ray
+// that mostly misses; under a large light the cosine's variation is what
+// is left, and cosine-weighted BRDF samples remove it.
+bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
+    if (!Rgb(sp.material->ks).isBlack() || lights.environment()) return true;  // an environment subtends 4 pi
+    for (size_t j = 0; j < lights.areaLightCount(); ++j)
+        if (lights.boundingSolidAngle(j, sp.p) > kLargeLightSolidAngle) return true;
+    return false;
+}
+
 }  // namespace
 
 void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth,
@@ -137,15 +234,26 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
         if (active[i] && lanes[i].sp.reflectsLight()) lit[nLit++] = static_cast<uint8_t>(i);
     if (nLit == 0) return;
 
+    const DirectLightSampling mode = settings_.directLight;
+    const bool area = mode == DirectLightSampling::Area;
+    bool mis[kMaxBatch] = {};
+    bool anyMis = false;
+    if (mode == DirectLightSampling::Mis)
+        for (size_t q = 0; q < nLit; ++q) anyMis |= mis[lit[q]] = takesBrdfSamples(lanes[lit[q]].sp, lights_);
+    const auto sampleLight = [&](const Light& light, const Vec3f& p, Vec2f u) {
+        return area ? light.sampleArea(p, u) : light.sample(p, u);
+    };
+
     const uint32_t n = static_cast<uint32_t>(settings_.lightSamples);
     const float invN = 1.f / float(n);
-    const uint32_t dimBase = kFirstLightDimension + uint32_t(depth) * uint32_t(nLights + 1);
+    const uint32_t dimBase = kFirstLightDimension + uint32_t(depth) * uint32_t(nLights + 2);
     Rgb acc[kMaxBatch], sum[kMaxBatch];
     ShadowQueue queue(accel_, counts, acc);
 
     // Sample u of lane `lane` (sample k of n) in dimension dim: a one-sample
     // set is a single hash; larger sets are multi-jittered per shading point.
-    if (settings_.lightSelection == LightSelection::All) {
+    const bool power = settings_.lightSelection == LightSelection::Power;
+    if (!power) {
         for (size_t j = 0; j < nLights; ++j) {
             const Light& light = lights_[j];
             const uint32_t dim = dimBase + uint32_t(j);
@@ -153,7 +261,7 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
             if (light.isDelta()) {
                 for (size_t q = 0; q < nLit; ++q) {
                     const ShadingPoint& sp = lanes[lit[q]].sp;
-                    if (auto ls = light.sample(sp.p, Vec2f{0.5f, 0.5f})) queue.add(lit[q], sp, *ls, 1.f);
+                    if (auto ls = light.sample(sp.p, Vec2f{0.5f, 0.5f})) queue.add(lit[q], sp, *ls, 1.f, 1.f, false);
                 }
                 queue.flush();
                 for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]];
@@ -163,12 +271,13 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                 const PathLane& lane = lanes[lit[q]];
                 if (n == 1) {
                     const Vec2f u = hashPoint2D(lane.key.pixelKey, lane.key.index, dim);
-                    if (auto ls = light.sample(lane.sp.p, u)) queue.add(lit[q], lane.sp, *ls, 1.f);
+                    if (auto ls = sampleLight(light, lane.sp.p, u)) queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, mis[lit[q]]);
                     continue;
                 }
                 const MultiJitterSet set(n, setPattern(lane.key.pixelKey, lane.key.index, dim));
                 for (uint32_t k = 0; k < n; ++k)
-                    if (auto ls = light.sample(lane.sp.p, set.sample(k))) queue.add(lit[q], lane.sp, *ls, 1.f);
+                    if (auto ls = sampleLight(light, lane.sp.p, set.sample(k)))
+                        queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, mis[lit[q]]);
             }
             queue.flush();
             for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]] * invN;
@@ -184,12 +293,36 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
             for (uint32_t k = 0; k < n; ++k) {
                 const LightSet::Pick pick = lights_.pickByPower(pickSet.sample(k).x);
                 if (!(pick.probability > 0.f)) continue;
-                if (auto ls = lights_[pick.index].sample(lane.sp.p, set.sample(k)))
-                    queue.add(lit[q], lane.sp, *ls, 1.f / pick.probability);
+                if (auto ls = sampleLight(lights_[pick.index], lane.sp.p, set.sample(k)))
+                    queue.add(lit[q], lane.sp, *ls, 1.f / pick.probability, ls->pdf * pick.probability, mis[lit[q]]);
             }
         }
         queue.flush();
         for (size_t q = 0; q < nLit; ++q) sum[lit[q]] = acc[lit[q]] * invN;
+    }
+
+    // BRDF samples: n per shading point (as many as the light samples of each
+    // light), shared by all lights; each lands on at most one.
+    if (anyMis) {
+        Rgb brdf[kMaxBatch];
+        BrdfQueue brdfQueue(accel_, scene_, lights_, power, counts, brdf);
+        const uint32_t dim = dimBase + uint32_t(nLights) + 1;
+        for (size_t q = 0; q < nLit; ++q) {
+            if (!mis[lit[q]]) continue;
+            const PathLane& lane = lanes[lit[q]];
+            const ShadingPoint& sp = lane.sp;
+            const auto brdfSample = [&](Vec2f u) {
+                if (auto s = samplePhong(*sp.material, sp.kd, sp.ns, sp.wo, u)) brdfQueue.add(lit[q], sp, *s);
+            };
+            if (n == 1) {
+                brdfSample(hashPoint2D(lane.key.pixelKey, lane.key.index, dim));
+                continue;
+            }
+            const MultiJitterSet set(n, setPattern(lane.key.pixelKey, lane.key.index, dim));
+            for (uint32_t k = 0; k < n; ++k) brdfSample(set.sample(k));
+        }
+        brdfQueue.flush();
+        for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += brdf[lit[q]] * invN;
     }
     for (size_t q = 0; q < nLit; ++q) lanes[lit[q]].L += lanes[lit[q]].throughput * sum[lit[q]];
 }

@@ -50,8 +50,9 @@ struct FirstHit {
     float depth = 0.f;
 };
 
-/// Sample-set dimensions: 0 = pixel position, 1 = lens, 2... = light samples
-/// (bounce d, light j uses kFirstLightDimension + d * (lights + 1) + j).
+/// Sample-set dimensions: 0 = pixel position, 1 = lens, 2... = direct light
+/// (bounce d, light j uses kFirstLightDimension + d * (lights + 2) + j; then
+/// one for power-selected light samples and one for BRDF samples).
 inline constexpr uint32_t kPixelDimension = 0;
 inline constexpr uint32_t kLensDimension = 1;
 inline constexpr uint32_t kFirstLightDimension = 2;

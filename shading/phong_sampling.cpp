@@ -18,8 +18,6 @@ Vec3f squareToPhongLobe(Vec2f u, float e) {
     return {sinAlpha * std::cos(phi), sinAlpha * std::sin(phi), cosAlpha};
 }
 
-float lobePdf(float cosAlpha, float e) { return cosAlpha > 0.f ? (e + 1.f) * kInv2Pi * std::pow(cosAlpha, e) : 0.f; }
-
 }  // namespace
 
 float phongDiffuseProbability(const Material& m, const Rgb& kd) {
@@ -29,6 +27,26 @@ float phongDiffuseProbability(const Material& m, const Rgb& kd) {
     if (!(ws > 0.f)) return wd > 0.f ? 1.f : 0.f;
     if (!(wd > 0.f)) return 0.f;
     return wd / (wd + ws);
+}
+
+PhongSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi) {
+    const float pd = phongDiffuseProbability(m, kd);
+    const float cosTheta = dot(n, wi);
+    // cos(alpha) between wi and the mirror direction of wo, computed as
+    // phongResponse does (the mirror direction of wi against wo: the same angle).
+    const Vec3f r = 2.f * cosTheta * n - wi;
+    const float cosAlpha = dot(r, wo);
+    const float e = m.exponent;
+    const float lobe = cosAlpha > 0.f && pd < 1.f ? std::pow(cosAlpha, e) : 0.f;
+    float pdf = pd > 0.f ? pd * std::max(0.f, cosTheta) * kInvPi : 0.f;
+    pdf += (1.f - pd) * (e + 1.f) * kInv2Pi * lobe;
+    Rgb fCos;
+    if (cosTheta > 0.f) {
+        const float specular = Rgb(m.ks).maxComponent() > 0.f ? lobe : 0.f;
+        const float norm = m.model == PhongModel::Normalized ? (e + 2.f) * kInv2Pi : 1.f;
+        fCos = (kd * kInvPi + m.ks * (norm * specular)) * cosTheta;
+    }
+    return PhongSample{wi, fCos, pdf};
 }
 
 std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u) {
@@ -44,21 +62,14 @@ std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const V
         wi = Frame::fromNormal(r).toWorld(squareToPhongLobe(u, m.exponent));
     }
     wi = normalize(wi);
-    const float pdf = phongPdf(m, kd, n, wo, wi);
-    if (!(dot(n, wi) > 0.f) || !(pdf > 0.f)) return std::nullopt;
-    const Rgb fCos = phongResponse(m, kd, n, wo, wi, false);
-    return PhongSample{wi, fCos, pdf};
+    if (!(dot(n, wi) > 0.f)) return std::nullopt;
+    const PhongSample s = phongEvaluate(m, kd, n, wo, wi);
+    if (!(s.pdf > 0.f)) return std::nullopt;
+    return s;
 }
 
 float phongPdf(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi) {
-    const float pd = phongDiffuseProbability(m, kd);
-    float pdf = 0.f;
-    if (pd > 0.f) pdf += pd * std::max(0.f, dot(n, wi)) * kInvPi;
-    if (pd < 1.f) {
-        const Vec3f r = 2.f * dot(n, wo) * n - wo;
-        pdf += (1.f - pd) * lobePdf(dot(normalize(r), wi), m.exponent);
-    }
-    return pdf;
+    return phongEvaluate(m, kd, n, wo, wi).pdf;
 }
 
 }  // namespace penumbra

@@ -38,4 +38,9 @@ std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const V
 /// Solid-angle pdf with which samplePhong returns wi (for MIS weights).
 float phongPdf(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi);
 
+/// f cos (as phongResponse for an area light) and pdf (as phongPdf) of wi in
+/// one go, with one pow instead of two: what a light sample under MIS needs.
+/// fCos is zero below the surface; wi is returned as given.
+PhongSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi);
+
 }  // namespace penumbra

@@ -22,6 +22,7 @@ struct JobWire {
     std::int32_t integrator;
     std::uint64_t seed;
     float eye[3], lookAt[3], up[3], vfov, aperture, focusDistance;
+    std::int32_t directLight;
 };
 
 std::vector<char> gatherStrings(const std::string& mine, const std::vector<int>& lengths, int rank, int size,
@@ -98,6 +99,7 @@ std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank) {
         w.lightSelection = s.lightSelection == pnb::LightSelection::Power ? 1 : 0;
         w.aovs = s.aovs ? 1 : 0;
         w.integrator = s.integrator == pnb::IntegratorKind::Path ? 1 : 0;
+        w.directLight = static_cast<std::int32_t>(s.directLight);
         w.seed = s.seed;
         const pnb::Vec3* v[3] = {&c.eye, &c.lookAt, &c.up};
         float* d[3] = {w.eye, w.lookAt, w.up};
@@ -125,6 +127,7 @@ std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank) {
     s.lightSelection = w.lightSelection ? pnb::LightSelection::Power : pnb::LightSelection::All;
     s.aovs = w.aovs != 0;
     s.integrator = w.integrator ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
+    s.directLight = static_cast<pnb::DirectLightSampling>(w.directLight);
     s.seed = w.seed;
     pnb::Camera& c = job.camera;
     c.eye = {w.eye[0], w.eye[1], w.eye[2]};

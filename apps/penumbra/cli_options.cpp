@@ -163,7 +163,7 @@ ParseResult parseCommandLine(int argc, char** argv) {
     float smoothAngle = 0.f;
     std::string env;
     float envRotate = 0.f;
-    std::string integrator;
+    std::string integrator, directLight;
 
     app.add_option("scene", o.scene, "Scene file (.json, .obj, or a model: .ply .stl .gltf .glb .fbx .dae ...)")->required();
     app.add_option("-o,--output", o.output, "Output image (.exr .hdr .pfm .png .jpg .tif)")->required();
@@ -195,6 +195,9 @@ ParseResult parseCommandLine(int argc, char** argv) {
     app.add_option("--stats-json", o.statsJson, "Write render statistics as JSON to this file");
     app.add_flag("--strict", o.strict, "Treat skippable scene problems as errors");
     app.add_flag("-q,--quiet", o.quiet, "No progress and no summary");
+    app.add_option("--direct-light", directLight,
+                   "Area-light estimator: mis (light + BRDF samples, default), light (solid-angle light samples) "
+                   "or area (uniform-area light samples, the old estimator)");
     auto* oEnv = app.add_option("--env", env, "Environment light: radiance r,g,b or a lat-long image (.exr .hdr ...)");
     auto* oEnvRotate = app.add_option("--env-rotate", envRotate, "Turn the --env image by DEG about +y");
     app.add_option("--model", model, "Phong model of mesh and model files' materials: classic or normalized (default)");
@@ -238,6 +241,11 @@ ParseResult parseCommandLine(int argc, char** argv) {
             if (integrator != "whitted" && integrator != "path")
                 throw Error(ErrorCode::InvalidArgument, "--integrator: expected whitted or path, got '" + integrator + "'");
             o.integrator = integrator;
+        }
+        if (!directLight.empty()) {
+            if (directLight != "mis" && directLight != "light" && directLight != "area")
+                throw Error(ErrorCode::InvalidArgument, "--direct-light: expected mis, light or area, got '" + directLight + "'");
+            o.directLight = directLight;
         }
     } catch (const Error& e) {
         return {std::nullopt, reportUsageError(e.what())};

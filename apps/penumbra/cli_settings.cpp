@@ -20,6 +20,10 @@ pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings s) {
     s.crop = o.crop;
     s.aovs = o.aovs;
     if (o.integrator) s.integrator = *o.integrator == "path" ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
+    if (o.directLight)
+        s.directLight = *o.directLight == "area"    ? pnb::DirectLightSampling::Area
+                        : *o.directLight == "light" ? pnb::DirectLightSampling::Light
+                                                    : pnb::DirectLightSampling::Mis;
     return s;
 }
 

@@ -15,6 +15,7 @@ import weakref
 from ._penumbra import (
     BuildQuality,
     Camera,
+    DirectLightSampling,
     Error,
     ErrorCode,
     Framebuffer,
@@ -38,7 +39,8 @@ from ._image import Image, png_bytes
 __version__ = version()
 
 __all__ = [
-    "BuildQuality", "Camera", "Error", "ErrorCode", "Framebuffer", "Image", "IntegratorKind", "JobStatus", "LightSelection",
+    "BuildQuality", "Camera", "DirectLightSampling", "Error", "ErrorCode", "Framebuffer", "Image", "IntegratorKind",
+    "JobStatus", "LightSelection",
     "LogLevel", "Material", "Matrix3x4", "PhongModel", "PreparedScene", "RenderJob", "Renderer",
     "RenderSettings", "RenderStats", "Scene", "png_bytes", "version",
 ]

@@ -91,6 +91,17 @@ pnb::IntegratorKind integratorFrom(const py::handle& value) {
     return value.cast<pnb::IntegratorKind>();
 }
 
+pnb::DirectLightSampling directLightFrom(const py::handle& value) {
+    if (py::isinstance<py::str>(value)) {
+        const std::string s = value.cast<std::string>();
+        if (s == "mis") return pnb::DirectLightSampling::Mis;
+        if (s == "light") return pnb::DirectLightSampling::Light;
+        if (s == "area") return pnb::DirectLightSampling::Area;
+        invalid("direct_light must be 'mis', 'light' or 'area', got '" + s + "'");
+    }
+    return value.cast<pnb::DirectLightSampling>();
+}
+
 py::object cropTuple(const std::optional<pnb::CropWindow>& c) {
     if (!c) return py::none();
     return py::make_tuple(c->x0, c->y0, c->x1, c->y1);
@@ -106,7 +117,9 @@ std::string settingsRepr(const pnb::RenderSettings& s) {
              std::to_string(s.crop->x1) + ", " + std::to_string(s.crop->y1) + ")";
     r += std::string(", light_selection='") + (s.lightSelection == pnb::LightSelection::Power ? "power" : "all") + "'";
     r += std::string(", aovs=") + (s.aovs ? "True" : "False");
-    r += std::string(", integrator='") + (s.integrator == pnb::IntegratorKind::Path ? "path" : "whitted") + "')";
+    r += std::string(", integrator='") + (s.integrator == pnb::IntegratorKind::Path ? "path" : "whitted") + "'";
+    const char* direct[] = {"mis", "light", "area"};
+    r += std::string(", direct_light='") + direct[static_cast<int>(s.directLight)] + "')";
     return r;
 }
 
@@ -144,6 +157,7 @@ pnb::RenderSettings settingsWith(pnb::RenderSettings s, const py::kwargs& kwargs
         else if (k == "light_selection") s.lightSelection = selectionFrom(value);
         else if (k == "aovs") s.aovs = value.cast<bool>();
         else if (k == "integrator") s.integrator = integratorFrom(value);
+        else if (k == "direct_light") s.directLight = directLightFrom(value);
         else throw py::type_error("unexpected keyword argument '" + k + "'");
     }
     return s;
@@ -165,6 +179,12 @@ void bindValues(py::module_& m) {
     py::enum_<pnb::IntegratorKind>(m, "IntegratorKind")
         .value("Whitted", pnb::IntegratorKind::Whitted)
         .value("Path", pnb::IntegratorKind::Path);
+    py::enum_<pnb::DirectLightSampling>(m, "DirectLightSampling",
+                                        "Mis: light + BRDF samples (default); Light: light samples only; "
+                                        "Area: uniform-area light samples (the old estimator)")
+        .value("Mis", pnb::DirectLightSampling::Mis)
+        .value("Light", pnb::DirectLightSampling::Light)
+        .value("Area", pnb::DirectLightSampling::Area);
     py::enum_<pnb::BuildQuality>(m, "BuildQuality")
         .value("Low", pnb::BuildQuality::Low)
         .value("Medium", pnb::BuildQuality::Medium)
@@ -269,6 +289,10 @@ void bindValues(py::module_& m) {
             "integrator", [](const pnb::RenderSettings& s) { return s.integrator; },
             [](pnb::RenderSettings& s, const py::object& v) { s.integrator = integratorFrom(v); },
             "'whitted' (default) or 'path'")
+        .def_property(
+            "direct_light", [](const pnb::RenderSettings& s) { return s.directLight; },
+            [](pnb::RenderSettings& s, const py::object& v) { s.directLight = directLightFrom(v); },
+            "'mis', 'light' or 'area' (or the enum): the area-light estimator")
         .def("replace", [](const pnb::RenderSettings& s, const py::kwargs& kw) { return settingsWith(s, kw); },
              "A copy with the given settings changed.")
         .def("validate", [](const pnb::RenderSettings& s) { pnb::validate(s); },

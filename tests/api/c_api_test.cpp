@@ -202,6 +202,11 @@ TEST(CApi, BadSettingsAreRejectedBeforeAnyWork) {
     setRaw(s.integrator, 9);
     EXPECT_EQ(pnb_render(f.renderer, f.prepared, &f.camera, &s, f.image, nullptr, nullptr), PNB_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(lastError().find("integrator 9 is not a pnb_integrator"), std::string::npos) << lastError();
+    s = f.settings;
+    EXPECT_EQ(s.direct_light, PNB_DIRECT_LIGHT_MIS);
+    setRaw(s.direct_light, 3);
+    EXPECT_EQ(pnb_render(f.renderer, f.prepared, &f.camera, &s, f.image, nullptr, nullptr), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(lastError().find("direct_light 3"), std::string::npos) << lastError();
     pnb_camera cam = f.camera;
     cam.vfov_degrees = 0.f;
     EXPECT_EQ(pnb_camera_validate(&cam), PNB_ERROR_INVALID_ARGUMENT);

@@ -160,6 +160,55 @@ TEST(LightSampling, MeshLightMixesSphericalAndAreaTrianglesAndFitsItsPdf) {
     expectLightFits(s, light, Vec3f{0, 0, 0});
 }
 
+TEST(LightSampling, LargeMeshLightPicksByAreaAndFitsItsPdf) {
+    // 4 x 3 quads = 24 triangles (more than kSolidAnglePickMax) facing the
+    // origin from z = 1, plus a far small one sampled by area.
+    Scene s = emitterScene(false);
+    TriangleMesh m;
+    for (int j = 0; j <= 3; ++j)
+        for (int i = 0; i <= 4; ++i) m.positions.push_back(Vec3f{-0.8f + 0.5f * i, -0.5f + 0.45f * j, 1.f});
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 4; ++i) {
+            const uint32_t a = uint32_t(j * 5 + i), b = a + 1, c = a + 5, d = a + 6;
+            for (uint32_t v : {a, c, b, b, c, d}) m.indices.push_back(v);  // normals -z: towards the origin
+        }
+    const uint32_t base = uint32_t(m.positions.size());
+    for (Vec3f p : {Vec3f{5, -30, -8}, Vec3f{6, -30, -8}, Vec3f{5, -30, -9}}) m.positions.push_back(p);
+    for (uint32_t v : {base, base + 1, base + 2}) m.indices.push_back(v);
+    s.meshes.push_back(m);
+    std::vector<uint32_t> tris(m.triangleCount());
+    for (uint32_t t = 0; t < tris.size(); ++t) tris[t] = t;
+    ASSERT_GT(tris.size(), MeshAreaLight::kSolidAnglePickMax);
+    MeshAreaLight light(s, 0, 0, tris);
+    expectLightFits(s, light, Vec3f{0.1f, 0.05f, 0});
+    // Without the far triangle and seen from afar, the whole light is sampled by area.
+    Scene t = emitterScene(false);
+    m.positions.resize(base);
+    m.indices.resize(m.indices.size() - 3);
+    t.meshes.push_back(m);
+    tris.pop_back();
+    MeshAreaLight farLight(t, 0, 0, tris);
+    expectLightFits(t, farLight, Vec3f{0.3f, 0.2f, -5.f});
+}
+
+TEST(LightSampling, FarRectangleSamplesByAreaAndFarSmallMeshLightFitsItsPdf) {
+    // The rectangle's bounding sphere subtends less than kSolidAngleSamplingMinBound
+    // (area sampling); a small mesh light still picks by solid angle.
+    Scene s = emitterScene(false);
+    s.rectangles.push_back(Rectangle{Vec3f{3.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.f}, Vec3f{0, 1.f, 0}, 0});
+    ShapeAreaLight rect(s, ShapeAreaLight::Kind::Rectangle, 0);
+    ASSERT_FALSE(subtendsAtLeast(Vec3f{3.f, 0.1f, 0.7f}, 0.5f, Vec3f{0, 0, 0}, kSolidAngleSamplingMinBound));
+    expectLightFits(s, rect, Vec3f{0, 0, 0});
+    Scene t = emitterScene(false);
+    TriangleMesh m;
+    for (Vec3f p : {Vec3f{-3, 1, -0.5f}, Vec3f{-3, 1, 0.5f}, Vec3f{-3, 2, 0.5f}, Vec3f{-3, 2, -0.5f}})
+        m.positions.push_back(p);
+    m.indices = {0, 2, 1, 0, 3, 2};  // normals +x: towards the origin
+    t.meshes.push_back(m);
+    MeshAreaLight mesh(t, 0, 0, {0, 1});
+    expectLightFits(t, mesh, Vec3f{0, 0, 0});
+}
+
 TEST(LightSampling, AreaSamplingStillFitsItsPdf) {
     // sampleArea (--direct-light area) against the area pdf converted to solid angle.
     Scene s = emitterScene(false);

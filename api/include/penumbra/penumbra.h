@@ -122,6 +122,13 @@ typedef struct pnb_camera {
 } pnb_camera;
 
 typedef enum pnb_light_selection { PNB_LIGHTS_ALL = 0, PNB_LIGHTS_POWER = 1 } pnb_light_selection;
+/* Area-light estimator (docs/rendering.md): light + BRDF samples with MIS (default), light samples only,
+   or the old uniform-area light samples (for comparisons). */
+typedef enum pnb_direct_light {
+    PNB_DIRECT_LIGHT_MIS = 0,
+    PNB_DIRECT_LIGHT_LIGHT = 1,
+    PNB_DIRECT_LIGHT_AREA = 2
+} pnb_direct_light;
 
 typedef enum pnb_integrator { PNB_INTEGRATOR_WHITTED = 0, PNB_INTEGRATOR_PATH = 1 } pnb_integrator;
 
@@ -139,6 +146,7 @@ typedef struct pnb_render_settings {
     pnb_light_selection light_selection;
     int aovs;          /* nonzero: framebuffers also hold albedo, normal, depth */
     pnb_integrator integrator;
+    pnb_direct_light direct_light;
 } pnb_render_settings;
 
 typedef struct pnb_load_options {

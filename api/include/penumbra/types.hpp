@@ -137,6 +137,14 @@ enum class LightSelection {
     Power,  ///< lightSamples samples in total, lights picked in proportion to power
 };
 
+/// How the integrator estimates the direct light of area lights
+/// (docs/rendering.md). Point and directional lights are exact in all three.
+enum class DirectLightSampling {
+    Mis,    ///< solid-angle light samples + Phong BRDF samples, power heuristic (default)
+    Light,  ///< solid-angle light samples only
+    Area,   ///< light samples uniform in area only: the estimator before issue 15, for comparisons
+};
+
 /// What to render. The same scene, camera and settings give a bit-identical
 /// image for any thread count, tile size and split into passes.
 struct RenderSettings {
@@ -154,6 +162,7 @@ struct RenderSettings {
     /// asked for (the CLI's --aovs, docs/embedding.md): it costs memory.
     bool aovs = false;
     IntegratorKind integrator = IntegratorKind::Whitted;
+    DirectLightSampling directLight = DirectLightSampling::Mis;
 };
 
 // ---------------------------------------------------------------- rendering

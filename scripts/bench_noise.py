@@ -1,0 +1,221 @@
+#!/usr/bin/env python3
+"""Noise benchmark of the direct-light estimators (issue 15).
+
+For each scene: a reference with the same camera rays (same seed and spp) and
+converged direct light (--direct-light mis, many light samples), then the
+three estimators of --direct-light at the same camera and light samples
+(equal samples), then `area` with its light samples raised until its render
+time matches that of `mis` (equal time). The figure is the relative MSE
+against the reference, mean over pixels and channels of
+(x - ref)^2 / (ref^2 + 0.01): only the direct-light estimator's noise, not
+the pixel filter's. Times are render_seconds of --stats-json, the smaller of
+two interleaved runs, so start-up and image writing do not count. Last, the
+textbook scene's ns per camera sample with `area` and `mis`, 1 thread.
+
+Writes the raw output (docs/bench_noise.txt), all figures (docs/bench_noise.json)
+and the section of docs/benchmarks.md (scripts/benchmarks_doc_noise.md; run
+scripts/make_benchmarks_doc.py afterwards). Scenes under ../shared are skipped
+when it is absent.
+
+  scripts/bench_noise.py [--penumbra build/bin/penumbra] [--spp 4] [--light-samples 4]
+                         [--ref-light-samples 256] [--threads 2] [--textbook-spp 25]
+"""
+import argparse
+import json
+import os
+import platform
+import struct
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SHARED = ROOT.parent / "shared"
+
+SCENES = [
+    ("glossy floor, sphere light", ROOT / "assets/scenes/bench/glossy_sphere_light.json", []),
+    ("glossy floor, rectangle light", ROOT / "assets/scenes/bench/glossy_rectangle_light.json", []),
+    ("CornellBox-Sphere", SHARED / "scenes/cornell_mcguire/CornellBox-Sphere.obj", ["--width", "256", "--height", "256"]),
+    ("lecture_area_light", ROOT / "assets/scenes/lecture_area_light.json", ["--width", "300", "--height", "200"]),
+]
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        channels = 3 if kind == b"PF" else 1
+        n = w * h * channels
+        data = struct.unpack(("<" if scale < 0 else ">") + "f" * n, f.read(4 * n))
+    return data
+
+
+def rel_mse(img, ref):
+    return sum((x - r) ** 2 / (r * r + 0.01) for x, r in zip(img, ref)) / len(ref)
+
+
+def render(exe, scene, extra, out, stats, spp, light_samples, mode, threads, seed=1):
+    cmd = [str(exe), str(scene), "-o", str(out), "-q", "--stats-json", str(stats), "--spp", str(spp),
+           "--light-samples", str(light_samples), "--direct-light", mode, "--seed", str(seed),
+           "--threads", str(threads)] + extra
+    p = subprocess.run(cmd, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        sys.exit(f"bench_noise: {' '.join(cmd)} failed:\n{p.stderr}")
+    return json.loads(Path(stats).read_text())
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--penumbra", default=str(ROOT / "build/bin/penumbra"))
+    ap.add_argument("--spp", type=int, default=4)
+    ap.add_argument("--light-samples", type=int, default=4)
+    ap.add_argument("--ref-light-samples", type=int, default=256)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--textbook-spp", type=int, default=25, help="camera samples for the textbook timing (0: skip)")
+    ap.add_argument("--only", default="", help="run only the scenes whose name contains this")
+    ap.add_argument("--out-dir", default=str(ROOT / "docs"))
+    ap.add_argument("--doc-part", default=str(ROOT / "scripts/benchmarks_doc_noise.md"))
+    a = ap.parse_args()
+
+    lines = []
+
+    def say(s=""):
+        print(s, flush=True)
+        lines.append(s)
+
+    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True).stdout.strip()
+    cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
+    say(f"bench_noise: commit {commit}, {platform.node()}, {cpu}, {os.cpu_count()} cores")
+    say(f"settings: --spp {a.spp} --light-samples {a.light_samples} --threads {a.threads}; "
+        f"reference: mis, --spp {a.spp} --light-samples {a.ref_light_samples} (same seed: same camera rays)")
+    results = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        for name, scene, extra in SCENES:
+            if a.only not in name:
+                continue
+            if not scene.exists():
+                say(f"\n{name}: skipped ({scene} is absent)")
+                continue
+            say(f"\n{name} ({scene.name}{' ' + ' '.join(extra) if extra else ''})")
+
+            def run(ls, mode, tag):
+                st = render(a.penumbra, scene, extra, tmp / f"{tag}.pfm", tmp / f"{tag}.json", a.spp, ls, mode,
+                            a.threads)
+                return st["render_seconds"], st["rays"]["total"], read_pfm(tmp / f"{tag}.pfm")
+
+            t_ref, _, ref = run(a.ref_light_samples, "mis", "ref")
+            say(f"  reference: {t_ref:.2f} s")
+            r = {"scene": name, "reference_seconds": t_ref, "modes": {}}
+            # Equal samples, each twice (interleaved) for the time; area also at
+            # twice the light samples, for its time per light sample.
+            ls, ls2 = a.light_samples, 2 * a.light_samples
+            runs = [("area", ls), ("light", ls), ("mis", ls), ("area", ls2)]
+            times, errs, rays = {}, {}, {}
+            for rep in range(2):
+                for mode, n in runs:
+                    t, nrays, img = run(n, mode, f"{mode}{n}_{rep}")
+                    times.setdefault((mode, n), []).append(t)
+                    if rep == 0:
+                        errs[(mode, n)] = rel_mse(img, ref)
+                        rays[(mode, n)] = nrays
+            t = {k: min(v) for k, v in times.items()}
+            base = errs[("area", ls)]
+            say(f"  {'estimator':<10} {'light spp':>9} {'time s':>8} {'rays':>10} {'relMSE':>11} {'vs area':>8}")
+            for mode, n in runs:
+                e = errs[(mode, n)]
+                say(f"  {mode:<10} {n:>9} {t[(mode, n)]:>8.3f} {rays[(mode, n)]:>10} {e:>11.4e} {e / base:>8.3f}")
+                r["modes"][f"{mode}_{n}"] = {"light_samples": n, "seconds": t[(mode, n)], "rays": rays[(mode, n)],
+                                             "rel_mse": e}
+            # Equal time: area's light samples raised until its time matches mis's
+            # (time linear in the light samples, from the two area runs).
+            # Refined by up to three secant steps on measured times (the machine is shared:
+            # a single small timing can be far off).
+            t_mis, t_ls = t[("mis", ls)], t[("area", ls)]
+            slope = max((t[("area", ls2)] - t_ls) / (ls2 - ls), 1e-6)
+            n_eq = max(ls, min(64 * ls, round(ls + (t_mis - t_ls) / slope)))
+            for step in range(3):
+                t1, nrays, img = run(n_eq, "area", "area_eq")
+                t2, _, _ = run(n_eq, "area", "area_eq2")
+                t_eq, e_eq = min(t1, t2), rel_mse(img, ref)
+                if abs(t_eq / t_mis - 1) < 0.1 or n_eq == ls and t_eq > t_mis or step == 2:
+                    break
+                if t_eq > t_ls and n_eq > ls:
+                    slope = (t_eq - t_ls) / (n_eq - ls)
+                n_next = max(ls, min(64 * ls, round(ls + (t_mis - t_ls) / slope)))
+                if n_next == n_eq:
+                    break
+                n_eq = n_next
+            te = [t_eq]
+            say(f"  {'area =t':<10} {n_eq:>9} {min(te):>8.3f} {nrays:>10} {e_eq:>11.4e} {e_eq / base:>8.3f}")
+            e_mis = errs[("mis", ls)]
+            r["area_equal_time"] = {"light_samples": n_eq, "seconds": min(te), "rel_mse": e_eq}
+            r["mis_over_area_equal_samples"] = e_mis / base
+            r["mis_over_area_equal_time"] = e_mis / e_eq
+            r["time_mis_over_area"] = t[("mis", ls)] / t[("area", ls)]
+            say(f"  mis / area: {e_mis / base:.3f} at equal samples, {e_mis / e_eq:.3f} at equal time "
+                f"(area with {n_eq} light samples, {min(te):.3f} s against mis {t[('mis', ls)]:.3f} s)")
+            results.append(r)
+        textbook = None
+        tb = SHARED / "bench/textbook_fig18_04.json"
+        if a.textbook_spp > 0 and tb.exists():
+            say(f"\ntextbook_fig18_04.json, --threads 1 --spp {a.textbook_spp} (scene's 1 light sample): "
+                "ns per camera sample (render_seconds / camera rays), runs interleaved")
+            ns = {"area": [], "mis": []}
+            for rep in range(3):
+                for mode in ("area", "mis"):
+                    cmd = [a.penumbra, str(tb), "-o", str(tmp / "tb.pfm"), "-q", "--threads", "1", "--spp",
+                           str(a.textbook_spp), "--direct-light", mode, "--stats-json", str(tmp / "tb.json")]
+                    subprocess.run(cmd, check=True, stderr=subprocess.DEVNULL)
+                    st = json.loads((tmp / "tb.json").read_text())
+                    ns[mode].append(st["render_seconds"] / st["rays"]["camera"] * 1e9)
+            for mode in ("area", "mis"):
+                say(f"  {mode:<5} " + " ".join(f"{x:7.1f}" for x in ns[mode]) + f"   median {sorted(ns[mode])[1]:.1f}")
+            textbook = {m: sorted(v)[1] for m, v in ns.items()}
+    out = Path(a.out_dir)
+    (out / "bench_noise.txt").write_text("\n".join(lines) + "\n")
+    (out / "bench_noise.json").write_text(json.dumps({"commit": commit, "cpu": cpu, "spp": a.spp,
+                                                      "light_samples": a.light_samples,
+                                                      "ref_light_samples": a.ref_light_samples,
+                                                      "threads": a.threads, "scenes": results,
+                                                      "textbook_ns_per_camera_sample": textbook}, indent=1) + "\n")
+    write_doc_part(Path(a.doc_part), a, commit, cpu, results, textbook, lines)
+
+
+def write_doc_part(path, a, commit, cpu, results, textbook, lines):
+    o = ["## Direct-light noise: MIS against the old estimator (a separate run)\n\n",
+         "This section is not part of the run above: it is `scripts/bench_noise.py` (issue 15), run on its own at\n",
+         f"commit {commit} on {cpu} with `--threads {a.threads}`, and generated from that run.\n",
+         "The figure is the relative MSE, mean over pixels and channels of (x − ref)² / (ref² + 0.01), against a\n",
+         f"reference with the same camera rays (same seed and `--spp {a.spp}`) and converged direct light\n",
+         f"(`--direct-light mis --light-samples {a.ref_light_samples}`), so only the direct-light estimator's noise\n",
+         "is measured, not the pixel filter's. `area` is the estimator before issue 15 (light samples uniform in area),\n",
+         "`light` solid-angle light samples only, `mis` light + Phong BRDF samples with the power heuristic (the\n",
+         f"default). Equal samples: `--spp {a.spp} --light-samples {a.light_samples}` for all; equal time: `area` with\n",
+         "its light samples raised until its render time matches that of `mis`. Times are `render_seconds`, the\n",
+         "smaller of two interleaved runs. Target: `mis` ≤ 0.5× `area` at equal samples, no worse at equal time.\n\n",
+         "| scene | relMSE area | relMSE mis | mis / area, equal samples | mis / area, equal time | render time mis / area |\n",
+         "|---|---:|---:|---:|---:|---:|\n"]
+    for r in results:
+        m = r["modes"]
+        ls = a.light_samples
+        o.append(f"| {r['scene']} | {m[f'area_{ls}']['rel_mse']:.3e} | {m[f'mis_{ls}']['rel_mse']:.3e} | "
+                 f"{r['mis_over_area_equal_samples']:.3f} | {r['mis_over_area_equal_time']:.3f} "
+                 f"(area: {r['area_equal_time']['light_samples']} light samples) | {r['time_mis_over_area']:.2f} |\n")
+    if textbook:
+        o.append(f"\nThe textbook scene (`../shared/bench/textbook_fig18_04.json`, diffuse only, one 4×4 rectangle light,\n"
+                 f"1 light sample, `--threads 1 --spp {a.textbook_spp}`): {textbook['area']:.0f} ns per camera sample with\n"
+                 f"`--direct-light area` (the old estimator) and {textbook['mis']:.0f} ns with `mis` (median of three\n"
+                 "interleaved runs each).\n")
+    o.append("\nCommand: `scripts/bench_noise.py " + f"--spp {a.spp} --light-samples {a.light_samples} "
+             f"--ref-light-samples {a.ref_light_samples} --threads {a.threads} --textbook-spp {a.textbook_spp}` "
+             "(raw output `docs/bench_noise.txt`, figures `docs/bench_noise.json`):\n\n```\n" + "\n".join(lines) +
+             "\n```\n")
+    path.write_text("".join(o))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

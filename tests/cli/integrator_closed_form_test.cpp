@@ -140,6 +140,33 @@ TEST_P(ClosedForm, GlassSlabAtNormalIncidencePath) {
     EXPECT_NEAR(renderMean(scene, "--integrator path --spp 64 --accel " + GetParam()), expected, 0.015 * expected);
 }
 
+// The same furnace with an emitting sphere (radius 10) as the enclosure, and
+// the box enclosure seen on its own wall: shading points that lie on the
+// light itself, where the sphere's cone and the mesh light's solid-angle
+// pick degenerate (both sample by area there). Before that rule the sphere
+// furnace gave 1.152 and the wall 1.519 with light samples only.
+TEST_P(ClosedForm, ShadingPointsOnTheLightItselfAreLitExactly) {
+    const fs::path dir = test::tempDir();
+    std::ifstream in(furnaceScene(dir));
+    nlohmann::json j = nlohmann::json::parse(in);
+    nlohmann::json sphere = j;
+    sphere["shapes"][0] = {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 10}, {"material", "walls"}};
+    const fs::path sphereScene = test::writeFile(dir / "sphere_furnace.json", sphere.dump());
+    const double expected = kB * kLe / (1.0 - kA);
+    EXPECT_NEAR(renderMean(sphereScene, "--integrator path --light-samples 4 --spp 16 --accel " + GetParam()), expected,
+                0.015 * expected);
+    // The wall at z = -10 around (5, 5), on the diagonal its two triangles share: Le + a Le, less the
+    // ball's shadow (the ball of radius 0.5 at distance 11.2 hides 0.2% of the hemisphere's cosine).
+    nlohmann::json wall = j;
+    wall["camera"]["eye"] = {5, 5, 0};
+    wall["camera"]["look_at"] = {5, 5, -10};
+    const fs::path wallScene = test::writeFile(dir / "wall.json", wall.dump());
+    for (const char* mode : {"light", "mis", "area"})
+        EXPECT_NEAR(renderMean(wallScene, std::string("--direct-light ") + mode + " --light-samples 4 --accel " + GetParam()),
+                    kLe * (1 + kA), 0.006 * kLe * (1 + kA))
+            << mode;
+}
+
 TEST(IntegratorStats, StatsJsonNamesTheIntegratorRayKindsAndPathLengths) {
     const fs::path dir = test::tempDir();
     const fs::path scene = slabScene(dir);

@@ -1,6 +1,5 @@
 #include "shading/integrator.h"
 
-#include "core/multi_jitter.h"
 #include "core/texture_cache.h"
 #include "lights/environment_light.h"
 #include "shading/dielectric.h"
@@ -250,8 +249,9 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
     Rgb acc[kMaxBatch], sum[kMaxBatch];
     ShadowQueue queue(accel_, counts, acc);
 
-    // Sample u of lane `lane` (sample k of n) in dimension dim: a one-sample
-    // set is a single hash; larger sets are multi-jittered per shading point.
+    // Sample k of lane q's n in dimension dim: point index * n + k of the
+    // pixel's sequence (dimensionSequence), stratified per shading point and
+    // across the pixel's camera samples.
     const bool power = settings_.lightSelection == LightSelection::Power;
     if (!power) {
         for (size_t j = 0; j < nLights; ++j) {
@@ -269,14 +269,9 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
             }
             for (size_t q = 0; q < nLit; ++q) {
                 const PathLane& lane = lanes[lit[q]];
-                if (n == 1) {
-                    const Vec2f u = hashPoint2D(lane.key.pixelKey, lane.key.index, dim);
-                    if (auto ls = sampleLight(light, lane.sp.p, u)) queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, mis[lit[q]]);
-                    continue;
-                }
-                const MultiJitterSet set(n, setPattern(lane.key.pixelKey, lane.key.index, dim));
+                const OwenSobol2D seq = dimensionSequence(lane.key, dim);
                 for (uint32_t k = 0; k < n; ++k)
-                    if (auto ls = sampleLight(light, lane.sp.p, set.sample(k)))
+                    if (auto ls = sampleLight(light, lane.sp.p, seq.point(lane.key.index * n + k)))
                         queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, mis[lit[q]]);
             }
             queue.flush();
@@ -288,12 +283,13 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
         for (size_t q = 0; q < nLit; ++q) {
             const PathLane& lane = lanes[lit[q]];
             acc[lit[q]] = Rgb{};
-            const MultiJitterSet set(n, setPattern(lane.key.pixelKey, lane.key.index, dim));
-            const MultiJitterSet pickSet(n, setPattern(lane.key.pixelKey, lane.key.index, pickDim));
+            const OwenSobol2D seq = dimensionSequence(lane.key, dim);
+            const OwenSobol2D pickSeq = dimensionSequence(lane.key, pickDim);
             for (uint32_t k = 0; k < n; ++k) {
-                const LightSet::Pick pick = lights_.pickByPower(pickSet.sample(k).x);
+                const uint32_t index = lane.key.index * n + k;
+                const LightSet::Pick pick = lights_.pickByPower(pickSeq.point(index).x);
                 if (!(pick.probability > 0.f)) continue;
-                if (auto ls = sampleLight(lights_[pick.index], lane.sp.p, set.sample(k)))
+                if (auto ls = sampleLight(lights_[pick.index], lane.sp.p, seq.point(index)))
                     queue.add(lit[q], lane.sp, *ls, 1.f / pick.probability, ls->pdf * pick.probability, mis[lit[q]]);
             }
         }
@@ -314,12 +310,8 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
             const auto brdfSample = [&](Vec2f u) {
                 if (auto s = samplePhong(*sp.material, sp.kd, sp.ns, sp.wo, u)) brdfQueue.add(lit[q], sp, *s);
             };
-            if (n == 1) {
-                brdfSample(hashPoint2D(lane.key.pixelKey, lane.key.index, dim));
-                continue;
-            }
-            const MultiJitterSet set(n, setPattern(lane.key.pixelKey, lane.key.index, dim));
-            for (uint32_t k = 0; k < n; ++k) brdfSample(set.sample(k));
+            const OwenSobol2D seq = dimensionSequence(lane.key, dim);
+            for (uint32_t k = 0; k < n; ++k) brdfSample(seq.point(lane.key.index * n + k));
         }
         brdfQueue.flush();
         for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += brdf[lit[q]] * invN;

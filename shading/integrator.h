@@ -12,6 +12,7 @@
 
 #include "accel/accelerator.h"
 #include "core/color.h"
+#include "core/owen_sobol.h"
 #include "core/render_settings.h"
 #include "core/scene.h"
 #include "lights/light_set.h"
@@ -64,6 +65,15 @@ struct SampleKey {
     uint64_t pixelKey;
     uint32_t index;  // camera sample index within the pixel
 };
+
+/// The points camera sample `key` draws in dimension `dim`: sample k of the
+/// n it takes at a shading point is point key.index * n + k of the pixel's
+/// Owen-scrambled Sobol sequence for that dimension (core/owen_sobol.h), so
+/// each shading point's n points are stratified and so are all spp * n of
+/// the pixel.
+inline OwenSobol2D dimensionSequence(const SampleKey& key, uint32_t dim) {
+    return OwenSobol2D(key.pixelKey ^ ((uint64_t(dim) + 1) * 0x9e3779b97f4a7c15ULL));
+}
 
 /// Radiance a ray leaving the scene along `dir` sees: the environment light
 /// when the scene has one (lights.environment()), else Scene::background. The

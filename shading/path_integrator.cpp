@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/multi_jitter.h"
 #include "lights/environment_light.h"
 #include "shading/dielectric.h"
 #include "shading/mis.h"
@@ -162,26 +161,22 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
                     if (auto ls = light.sample(v.sp.p, Vec2f{0.5f, 0.5f})) addSample(lit[q], *ls, 1.f, 1.f);
                     continue;
                 }
-                if (n == 1) {
-                    if (auto ls = light.sample(v.sp.p, hashPoint2D(v.key.pixelKey, v.key.index, dims.light(j))))
-                        addSample(lit[q], *ls, 1.f, 1.f);
-                    continue;
-                }
-                const MultiJitterSet set(n, setPattern(v.key.pixelKey, v.key.index, dims.light(j)));
+                const OwenSobol2D seq = dimensionSequence(v.key, dims.light(j));
                 for (uint32_t k = 0; k < n; ++k)
-                    if (auto ls = light.sample(v.sp.p, set.sample(k))) addSample(lit[q], *ls, 1.f, invN);
+                    if (auto ls = light.sample(v.sp.p, seq.point(v.key.index * n + k))) addSample(lit[q], *ls, 1.f, invN);
             }
         }
     } else {
         // n samples in total, each picking one light in proportion to its power.
         for (size_t q = 0; q < nLit; ++q) {
             const PathVertexLane& v = lanes[lit[q]];
-            const MultiJitterSet set(n, setPattern(v.key.pixelKey, v.key.index, dims.powerPoint()));
-            const MultiJitterSet pickSet(n, setPattern(v.key.pixelKey, v.key.index, dims.powerPick()));
+            const OwenSobol2D seq = dimensionSequence(v.key, dims.powerPoint());
+            const OwenSobol2D pickSeq = dimensionSequence(v.key, dims.powerPick());
             for (uint32_t k = 0; k < n; ++k) {
-                const LightSet::Pick pick = lights_.pickByPower(pickSet.sample(k).x);
+                const uint32_t index = v.key.index * n + k;
+                const LightSet::Pick pick = lights_.pickByPower(pickSeq.point(index).x);
                 if (!(pick.probability > 0.f)) continue;
-                if (auto ls = lights_[pick.index].sample(v.sp.p, set.sample(k))) addSample(lit[q], *ls, pick.probability, invN);
+                if (auto ls = lights_[pick.index].sample(v.sp.p, seq.point(index))) addSample(lit[q], *ls, pick.probability, invN);
             }
         }
     }
@@ -193,8 +188,9 @@ bool PathIntegrator::scatter(PathVertexLane& lane, int depth, RayCounts& counts)
     const ShadingPoint& sp = lane.sp;
     const Material& m = *sp.material;
     const PathDimensions dims = dimensionsAt(depth, lights_.size());
-    const Vec2f uLobe = hashPoint2D(lane.key.pixelKey, lane.key.index, dims.lobeAndRoulette());
-    const Vec2f uDir = hashPoint2D(lane.key.pixelKey, lane.key.index, dims.direction());
+    // One point per camera sample: the pixel's bounces are stratified too.
+    const Vec2f uLobe = dimensionSequence(lane.key, dims.lobeAndRoulette()).point(lane.key.index);
+    const Vec2f uDir = dimensionSequence(lane.key, dims.direction()).point(lane.key.index);
 
     Vec3f wi;
     Rgb weight;

@@ -151,7 +151,7 @@ struct RenderSettings {
     int width = 512;
     int height = 512;
     int spp = 16;           ///< camera samples per pixel (multi-jittered)
-    int lightSamples = 4;   ///< area-light samples per light per shading point (multi-jittered)
+    int lightSamples = 4;   ///< area-light samples per light per shading point (stratified)
     int maxDepth = 10;      ///< whitted: mirror/refraction bounces (0 = none); path: path length in bounces
     std::uint64_t seed = 0;
     int threads = 0;        ///< 0 = all cores; each render runs in its own TBB arena

@@ -1,0 +1,118 @@
+// The 2D sample sequence of the integrators: the first two Sobol dimensions,
+// a (0,2)-sequence, with hash-based nested uniform (Owen) scrambling
+// (Burley 2020, "Practical Hash-based Owen Scrambling").
+//
+// Why a sequence and not a set per shading point: a (0,2)-sequence is a
+// progressive multi-jittered sequence (Christensen, Kensler & Kilpatrick
+// 2018). Every aligned block of 2^k consecutive points is a (0,k,2)-net,
+// stratified in every 2^a x 2^b grid with a + b = k: a multi-jittered set of
+// its own (jittered in the square grid when k is even, n-rooks in x and y).
+// A pixel draws light sample k of camera sample s as point s*n + k of its
+// sequence: each shading point's n samples form one such block (stratified
+// per shading point, as before), and all spp*n samples of the pixel are one
+// larger net, stratified across the camera samples too. With one light
+// sample and many camera samples that is the difference between spp
+// independent points on a light and spp stratified ones.
+//
+// Owen scrambling keeps the nets and makes every point uniform on its own,
+// so estimators stay unbiased; the index is also scrambled (within the block
+// structure) per sequence, so that the sequences of different dimensions of
+// one pixel are not correlated point by point.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+
+#include "core/hash.h"
+#include "core/math.h"
+
+namespace penumbra {
+
+namespace detail {
+
+inline uint32_t reverseBits(uint32_t x) {
+    x = (x << 16) | (x >> 16);
+    x = ((x & 0x00ff00ffU) << 8) | ((x & 0xff00ff00U) >> 8);
+    x = ((x & 0x0f0f0f0fU) << 4) | ((x & 0xf0f0f0f0U) >> 4);
+    x = ((x & 0x33333333U) << 2) | ((x & 0xccccccccU) >> 2);
+    x = ((x & 0x55555555U) << 1) | ((x & 0xaaaaaaaaU) >> 1);
+    return x;
+}
+
+// A random permutation of 32-bit values in which each bit is flipped as a
+// function of the bits below it only (carries and multiplication by even
+// constants move information upwards): applied to bit-reversed values it is
+// a nested uniform scramble. Constants: the Laine-Karras construction with
+// Vegdahl's mixing constants.
+inline uint32_t upwardHash(uint32_t x, uint32_t seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cU;
+    x ^= x * 0xb82f1e52U;
+    x ^= x * 0xc7afe638U;
+    x ^= x * 0x8d22f6e6U;
+    return x;
+}
+
+/// Owen scramble of a 0.32 fixed-point value: each bit is flipped by a hash
+/// of the bits above it.
+inline uint32_t owenScramble(uint32_t x, uint32_t seed) { return reverseBits(upwardHash(reverseBits(x), seed)); }
+
+// Second Sobol dimension (generator matrix: Pascal's triangle mod 2), one
+// table of 256 entries per byte of the index: column j of the matrix is
+// v_0 = 2^31, v_{j+1} = v_j ^ (v_j >> 1).
+struct SobolSecondTable {
+    uint32_t t[4][256];
+    constexpr SobolSecondTable() : t{} {
+        uint32_t v[32] = {};
+        v[0] = 0x80000000U;
+        for (int j = 1; j < 32; ++j) v[j] = v[j - 1] ^ (v[j - 1] >> 1);
+        for (int b = 0; b < 4; ++b)
+            for (uint32_t x = 0; x < 256; ++x) {
+                uint32_t y = 0;
+                for (int bit = 0; bit < 8; ++bit)
+                    if (x >> bit & 1U) y ^= v[8 * b + bit];
+                t[b][x] = y;
+            }
+    }
+};
+inline constexpr SobolSecondTable kSobolSecond{};
+
+/// Second Sobol dimension of index i, as a 0.32 fixed-point value (the
+/// first is reverseBits(i)).
+inline uint32_t sobolSecond(uint32_t i) {
+    const auto& t = kSobolSecond.t;
+    return t[0][i & 0xffU] ^ t[1][(i >> 8) & 0xffU] ^ t[2][(i >> 16) & 0xffU] ^ t[3][i >> 24];
+}
+
+inline float fixedToUnit(uint32_t x) { return std::min(static_cast<float>(x >> 8) * (1.f / 16777216.f), 0x1.fffffep-1f); }
+
+}  // namespace detail
+
+/// One scrambled sequence: a pixel's sequence in one dimension. The key
+/// (e.g. the pixel's sample key xor a dimension) chooses the scrambles; a
+/// point then costs a few multiplications and table lookups.
+class OwenSobol2D {
+public:
+    explicit OwenSobol2D(uint64_t key) {
+        const uint64_t h = mix64(key ^ 0x3c6ef372fe94f82bULL), g = mix64(h ^ 0xa54ff53a5f1d36f1ULL);
+        shuffle_ = static_cast<uint32_t>(h);
+        scrambleX_ = static_cast<uint32_t>(h >> 32);
+        scrambleY_ = static_cast<uint32_t>(g);
+    }
+
+    /// Point `index` of the sequence, in [0,1)^2.
+    Vec2f point(uint32_t index) const {
+        // Shuffle the index with an Owen scramble of its own bits (each
+        // flipped by a hash of the bits above it): each aligned block of 2^k
+        // indices maps onto one aligned block, so blocks stay nets.
+        const uint32_t i = detail::owenScramble(index, shuffle_);
+        const uint32_t x = detail::owenScramble(detail::reverseBits(i), scrambleX_);
+        const uint32_t y = detail::owenScramble(detail::sobolSecond(i), scrambleY_);
+        return {detail::fixedToUnit(x), detail::fixedToUnit(y)};
+    }
+
+private:
+    uint32_t shuffle_, scrambleX_, scrambleY_;
+};
+
+}  // namespace penumbra

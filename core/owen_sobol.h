@@ -31,8 +31,7 @@ namespace penumbra {
 namespace detail {
 
 inline uint32_t reverseBits(uint32_t x) {
-    x = (x << 16) | (x >> 16);
-    x = ((x & 0x00ff00ffU) << 8) | ((x & 0xff00ff00U) >> 8);
+    x = __builtin_bswap32(x);
     x = ((x & 0x0f0f0f0fU) << 4) | ((x & 0xf0f0f0f0U) >> 4);
     x = ((x & 0x33333333U) << 2) | ((x & 0xccccccccU) >> 2);
     x = ((x & 0x55555555U) << 1) | ((x & 0xaaaaaaaaU) >> 1);
@@ -57,9 +56,10 @@ inline uint32_t upwardHash(uint32_t x, uint32_t seed) {
 /// of the bits above it.
 inline uint32_t owenScramble(uint32_t x, uint32_t seed) { return reverseBits(upwardHash(reverseBits(x), seed)); }
 
-// Second Sobol dimension (generator matrix: Pascal's triangle mod 2), one
-// table of 256 entries per byte of the index: column j of the matrix is
-// v_0 = 2^31, v_{j+1} = v_j ^ (v_j >> 1).
+// Second Sobol dimension (generator matrix: Pascal's triangle mod 2), bit
+// reversed (scrambling works on reversed values), one table of 256 entries
+// per byte of the index: column j of the matrix is v_0 = 2^31,
+// v_{j+1} = v_j ^ (v_j >> 1).
 struct SobolSecondTable {
     uint32_t t[4][256];
     constexpr SobolSecondTable() : t{} {
@@ -71,18 +71,23 @@ struct SobolSecondTable {
                 uint32_t y = 0;
                 for (int bit = 0; bit < 8; ++bit)
                     if (x >> bit & 1U) y ^= v[8 * b + bit];
-                t[b][x] = y;
+                uint32_t r = 0;  // reverseBits, spelled out for constexpr
+                for (int k = 0; k < 32; ++k) r |= ((y >> k) & 1U) << (31 - k);
+                t[b][x] = r;
             }
     }
 };
-inline constexpr SobolSecondTable kSobolSecond{};
+inline constexpr SobolSecondTable kSobolSecondReversed{};
 
-/// Second Sobol dimension of index i, as a 0.32 fixed-point value (the
-/// first is reverseBits(i)).
-inline uint32_t sobolSecond(uint32_t i) {
-    const auto& t = kSobolSecond.t;
+/// Second Sobol dimension of index i, bit-reversed: reverseBits of the 0.32
+/// fixed-point value. (The first dimension, reversed, is i itself.)
+inline uint32_t sobolSecondReversed(uint32_t i) {
+    const auto& t = kSobolSecondReversed.t;
     return t[0][i & 0xffU] ^ t[1][(i >> 8) & 0xffU] ^ t[2][(i >> 16) & 0xffU] ^ t[3][i >> 24];
 }
+
+/// Second Sobol dimension of index i, as a 0.32 fixed-point value.
+inline uint32_t sobolSecond(uint32_t i) { return reverseBits(sobolSecondReversed(i)); }
 
 inline float fixedToUnit(uint32_t x) { return std::min(static_cast<float>(x >> 8) * (1.f / 16777216.f), 0x1.fffffep-1f); }
 
@@ -101,13 +106,16 @@ public:
     }
 
     /// Point `index` of the sequence, in [0,1)^2.
-    Vec2f point(uint32_t index) const {
+    [[gnu::always_inline]] Vec2f point(uint32_t index) const {
         // Shuffle the index with an Owen scramble of its own bits (each
         // flipped by a hash of the bits above it): each aligned block of 2^k
         // indices maps onto one aligned block, so blocks stay nets.
+        // Scrambling works on bit-reversed values, and Sobol's first dimension
+        // is the reversed index: owenScramble(reverseBits(i)) is
+        // reverseBits(upwardHash(i)).
         const uint32_t i = detail::owenScramble(index, shuffle_);
-        const uint32_t x = detail::owenScramble(detail::reverseBits(i), scrambleX_);
-        const uint32_t y = detail::owenScramble(detail::sobolSecond(i), scrambleY_);
+        const uint32_t x = detail::reverseBits(detail::upwardHash(i, scrambleX_));
+        const uint32_t y = detail::reverseBits(detail::upwardHash(detail::sobolSecondReversed(i), scrambleY_));
         return {detail::fixedToUnit(x), detail::fixedToUnit(y)};
     }
 

@@ -123,6 +123,21 @@ std::optional<LightSample> ShapeAreaLight::sample(const Vec3f& p, Vec2f u) const
     return sampleArea(p, u);
 }
 
+void ShapeAreaLight::sampleMany(const Vec3f& p, std::span<const Vec2f> u,
+                                std::span<std::optional<LightSample>> out) const {
+    if (kind_ == Kind::Rectangle && u.size() > 1 && emitsTowards(p) && orthogonalEdges_ &&
+        subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound)) {
+        // One spherical rectangle (its set-up is most of a sample's cost) for all of p's samples.
+        const Rectangle& q = scene_.rectangles[index_];
+        const SphericalRectangle sr(p, q.p0, q.a, q.b);
+        if (sr.solidAngle() >= kSphericalMinSolidAngle) {
+            for (size_t k = 0; k < u.size(); ++k) out[k] = solidAngleSample(p, sr.sample(u[k]), sr.solidAngle(), Le_);
+            return;
+        }
+    }
+    Light::sampleMany(p, u, out);
+}
+
 float ShapeAreaLight::pdf(const Vec3f& p, const Hit& onLight) const {
     if (!emitsTowards(p)) return 0.f;
     if (kind_ == Kind::Rectangle) {

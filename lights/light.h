@@ -3,6 +3,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 
 #include "core/color.h"
 #include "core/hit.h"
@@ -32,6 +33,12 @@ public:
     /// lights and where the light sends nothing towards p (the back of a
     /// one-sided emitter), i.e. exactly where sample() cannot return it.
     virtual float pdf(const Vec3f& p, const Hit& onLight) const = 0;
+    /// out[k] = sample(p, u[k]) for every k (u and out of one size). Lights
+    /// whose sampling has a set-up per shading point (spherical rectangles)
+    /// do it once for all of p's samples.
+    virtual void sampleMany(const Vec3f& p, std::span<const Vec2f> u, std::span<std::optional<LightSample>> out) const {
+        for (size_t k = 0; k < u.size(); ++k) out[k] = sample(p, u[k]);
+    }
     /// The estimator before solid-angle sampling: points uniform in area
     /// (--direct-light area, for comparisons). Same as sample() unless overridden.
     virtual std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const { return sample(p, u); }

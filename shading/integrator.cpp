@@ -201,6 +201,9 @@ private:
     uint32_t pending_ = 0;
 };
 
+// Light samples drawn together by Light::sampleMany.
+constexpr uint32_t kSampleChunk = 16;
+
 // Solid angle (sr) from which a light counts as large for a Lambertian point.
 constexpr float kLargeLightSolidAngle = 1.f;
 
@@ -270,9 +273,22 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
             for (size_t q = 0; q < nLit; ++q) {
                 const PathLane& lane = lanes[lit[q]];
                 const OwenSobol2D seq = dimensionSequence(lane.key, dim);
-                for (uint32_t k = 0; k < n; ++k)
-                    if (auto ls = sampleLight(light, lane.sp.p, seq.point(lane.key.index * n + k)))
-                        queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, mis[lit[q]]);
+                if (area) {
+                    for (uint32_t k = 0; k < n; ++k)
+                        if (auto ls = light.sampleArea(lane.sp.p, seq.point(lane.key.index * n + k)))
+                            queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, false);
+                    continue;
+                }
+                // In chunks, so that a light's per-shading-point set-up is shared.
+                for (uint32_t k0 = 0; k0 < n; k0 += kSampleChunk) {
+                    const uint32_t m = std::min(n - k0, kSampleChunk);
+                    Vec2f u[kSampleChunk];
+                    std::optional<LightSample> ls[kSampleChunk];
+                    for (uint32_t k = 0; k < m; ++k) u[k] = seq.point(lane.key.index * n + k0 + k);
+                    light.sampleMany(lane.sp.p, std::span<const Vec2f>(u, m), std::span(ls, m));
+                    for (uint32_t k = 0; k < m; ++k)
+                        if (ls[k]) queue.add(lit[q], lane.sp, *ls[k], 1.f, ls[k]->pdf, mis[lit[q]]);
+                }
             }
             queue.flush();
             for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]] * invN;

@@ -162,8 +162,17 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
                     continue;
                 }
                 const OwenSobol2D seq = dimensionSequence(v.key, dims.light(j));
-                for (uint32_t k = 0; k < n; ++k)
-                    if (auto ls = light.sample(v.sp.p, seq.point(v.key.index * n + k))) addSample(lit[q], *ls, 1.f, invN);
+                // In chunks, so that a light's per-shading-point set-up is shared.
+                constexpr uint32_t kChunk = 16;
+                for (uint32_t k0 = 0; k0 < n; k0 += kChunk) {
+                    const uint32_t m = std::min(n - k0, kChunk);
+                    Vec2f u[kChunk];
+                    std::optional<LightSample> ls[kChunk];
+                    for (uint32_t k = 0; k < m; ++k) u[k] = seq.point(v.key.index * n + k0 + k);
+                    light.sampleMany(v.sp.p, std::span<const Vec2f>(u, m), std::span(ls, m));
+                    for (uint32_t k = 0; k < m; ++k)
+                        if (ls[k]) addSample(lit[q], *ls[k], 1.f, invN);
+                }
             }
         }
     } else {

@@ -275,6 +275,7 @@ float MeshAreaLight::trianglePdf(size_t i, const Vec3f& p, const Vec3f& point, f
 
 std::optional<LightSample> MeshAreaLight::sample(const Vec3f& p, Vec2f u) const {
     if (triangles_.empty() || !(totalArea_ > 0.f)) return std::nullopt;
+    if (!subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound)) return sampleArea(p, u);
     if (triangles_.size() <= kSolidAnglePickMax) {
         float omegas[kSolidAnglePickMax];
         const float total = solidAngles(p, omegas);
@@ -288,7 +289,6 @@ std::optional<LightSample> MeshAreaLight::sample(const Vec3f& p, Vec2f u) const 
         u.x = std::clamp((target - lo) / omegas[i], 0.f, 0x1.fffffep-1f);
         return sampleTriangle(i, p, u, omegas[i] / total, omegas[i]);
     }
-    if (!subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound)) return sampleArea(p, u);
     const size_t i = pick(u);
     return sampleTriangle(i, p, u, triangleArea(i) / totalArea_, -1.f);
 }
@@ -297,6 +297,8 @@ float MeshAreaLight::pdf(const Vec3f& p, const Hit& onLight) const {
     const auto it = std::lower_bound(meshTriangles_.begin(), meshTriangles_.end(), onLight.ref.prim);
     if (it == meshTriangles_.end() || *it != onLight.ref.prim) return 0.f;
     const size_t i = size_t(it - meshTriangles_.begin());
+    if (!subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound))
+        return areaPdfToSolidAngle(p, onLight.p, triangles_[i].n, 1.f / totalArea_, twoSided_);
     if (triangles_.size() <= kSolidAnglePickMax) {
         float omegas[kSolidAnglePickMax];
         const float total = solidAngles(p, omegas);
@@ -304,8 +306,6 @@ float MeshAreaLight::pdf(const Vec3f& p, const Hit& onLight) const {
         if (!(omegas[i] > 0.f)) return 0.f;
         return trianglePdf(i, p, onLight.p, omegas[i] / total, omegas[i]);
     }
-    if (!subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound))
-        return areaPdfToSolidAngle(p, onLight.p, triangles_[i].n, 1.f / totalArea_, twoSided_);
     return trianglePdf(i, p, onLight.p, triangleArea(i) / totalArea_, -1.f);
 }
 

@@ -19,13 +19,14 @@ namespace penumbra {
 /// spherical trigonometry loses precision.
 inline constexpr float kSphericalMinSolidAngle = 1e-3f;
 
-/// Rectangles and large mesh lights whose bounding sphere subtends less than
-/// this (steradians) at the shading point are sampled by area: seen that
-/// small, 1/d^2 and cos(theta') hardly vary over them, so the spherical
-/// sampling's trigonometry (a few hundred ns a sample) buys little
-/// (measured: scripts/bench_noise.py, docs/benchmarks.md). Small mesh
-/// lights (quads, lamps of a few triangles) are always sampled by solid
-/// angle: there the measured noise halves.
+/// Rectangles and mesh lights whose bounding sphere subtends less than this
+/// (steradians) at the shading point are sampled by area: seen that small,
+/// 1/d^2 and cos(theta') hardly vary over them, so the spherical sampling's
+/// trigonometry (a few hundred ns a sample) buys little. Measured with
+/// scripts/bench_noise.py on CornellBox-Sphere (a 2-triangle ceiling lamp,
+/// 4 x 4 samples): spherical triangles everywhere cut the relative MSE by
+/// 17% against area samples from the same stratified sequence, at 2.3 times
+/// the render time.
 inline constexpr float kSolidAngleSamplingMinBound = 0.5f;
 
 /// Whether a sphere (centre c, squared radius r2) subtends at least `omega`
@@ -72,13 +73,14 @@ private:
     float boundRadius2_ = 0.f;
 };
 
-/// The emissive triangles of one mesh that share one material. A triangle is
-/// picked in proportion to the solid angle it subtends at the shading point
-/// (lights of at most kSolidAnglePickMax triangles: quads, boxes) or to its
-/// area (larger meshes, where that would cost too much per sample; the whole
-/// light by area when its bounding sphere subtends less than
-/// kSolidAngleSamplingMinBound), then sampled by solid angle when it
-/// subtends at least kSphericalMinSolidAngle, else by area.
+/// The emissive triangles of one mesh that share one material. The whole
+/// light is sampled by area where its bounding sphere subtends less than
+/// kSolidAngleSamplingMinBound. Elsewhere a triangle is picked in proportion
+/// to the solid angle it subtends at the shading point (lights of at most
+/// kSolidAnglePickMax triangles: quads, boxes) or to its area (larger
+/// meshes, where that would cost too much per sample), then sampled by
+/// solid angle when it subtends at least kSphericalMinSolidAngle, else by
+/// area.
 class MeshAreaLight final : public Light {
 public:
     static constexpr size_t kSolidAnglePickMax = 16;

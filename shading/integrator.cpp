@@ -92,7 +92,9 @@ namespace {
 // lanes in the batch.
 class ShadowQueue {
 public:
-    ShadowQueue(const Accelerator& accel, RayCounts& counts, Rgb* sums) : accel_(accel), counts_(counts), sums_(sums) {}
+    /// nLight, nBrdf: light and BRDF samples per shading point (the MIS weights' counts).
+    ShadowQueue(const Accelerator& accel, RayCounts& counts, Rgb* sums, float nLight = 1.f, float nBrdf = 1.f)
+        : accel_(accel), counts_(counts), sums_(sums), nLight_(nLight), nBrdf_(nBrdf) {}
 
     /// lightPdf: the light-sampling pdf of the sample's direction (its solid
     /// angle pdf times the light's selection probability); mis: weigh it
@@ -103,7 +105,7 @@ public:
         if (mis && !ls.delta) {
             const PhongSample e = phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi);
             f = e.fCos;
-            scale *= powerHeuristic(1, lightPdf, 1, e.pdf);
+            scale *= powerHeuristic(nLight_, lightPdf, nBrdf_, e.pdf);
         } else {
             f = phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi, ls.delta);
         }
@@ -128,6 +130,7 @@ private:
     const Accelerator& accel_;
     RayCounts& counts_;
     Rgb* sums_;
+    float nLight_, nBrdf_;
     Ray rays_[kPacket];
     Rgb weights_[kPacket];
     uint8_t lanes_[kPacket];
@@ -145,8 +148,9 @@ private:
 class BrdfQueue {
 public:
     BrdfQueue(const Accelerator& accel, const Scene& scene, const LightSet& lights, bool powerSelection,
-              RayCounts& counts, Rgb* sums)
-        : accel_(accel), scene_(scene), lights_(lights), power_(powerSelection), counts_(counts), sums_(sums) {}
+              RayCounts& counts, Rgb* sums, float nLight, float nBrdf)
+        : accel_(accel), scene_(scene), lights_(lights), power_(powerSelection), counts_(counts), sums_(sums),
+          nLight_(nLight), nBrdf_(nBrdf) {}
 
     void add(size_t lane, const ShadingPoint& sp, const PhongSample& s) {
         if (dot(s.wi, sp.ng) <= 0.f) return;  // below the geometric surface
@@ -169,7 +173,7 @@ public:
                 if (!env) continue;
                 float lightPdf = env->pdf(rays_[i].d);
                 if (power_) lightPdf *= lights_.powerProbability(lights_.size() - 1);
-                sums_[lanes_[i]] += weights_[i] * env->radiance(rays_[i].d) * powerHeuristic(1, pdfs_[i], 1, lightPdf);
+                sums_[lanes_[i]] += weights_[i] * env->radiance(rays_[i].d) * powerHeuristic(nBrdf_, pdfs_[i], nLight_, lightPdf);
                 continue;
             }
             const Hit& hit = *hits_[i];
@@ -179,7 +183,7 @@ public:
             if (!light) continue;  // emissive, but no light: light samples never see it either
             float lightPdf = lights_[*light].pdf(origins_[i], hit);
             if (power_) lightPdf *= lights_.powerProbability(*light);
-            sums_[lanes_[i]] += weights_[i] * Rgb(m.ke) * powerHeuristic(1, pdfs_[i], 1, lightPdf);
+            sums_[lanes_[i]] += weights_[i] * Rgb(m.ke) * powerHeuristic(nBrdf_, pdfs_[i], nLight_, lightPdf);
         }
         pending_ = 0;
     }
@@ -192,6 +196,7 @@ private:
     bool power_;
     RayCounts& counts_;
     Rgb* sums_;
+    float nLight_, nBrdf_;
     Ray rays_[kPacket];
     std::optional<Hit> hits_[kPacket];
     Vec3f origins_[kPacket];
@@ -250,7 +255,13 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
     const float invN = 1.f / float(n);
     const uint32_t dimBase = kFirstLightDimension + uint32_t(depth) * uint32_t(nLights + 2);
     Rgb acc[kMaxBatch], sum[kMaxBatch];
-    ShadowQueue queue(accel_, counts, acc);
+    // BRDF samples under MIS: half as many as light samples (at least one).
+    // A BRDF sample costs about twice a light sample (a closest-hit ray, the
+    // lobe's sampling and the light's pdf); where the lobe is sharp, half as
+    // many still carry the highlight, and the power heuristic weighs each
+    // strategy by its count.
+    const uint32_t nBrdf = (n + 1) / 2;
+    ShadowQueue queue(accel_, counts, acc, float(n), float(nBrdf));
 
     // Sample k of lane q's n in dimension dim: point index * n + k of the
     // pixel's sequence (dimensionSequence), stratified per shading point and
@@ -317,7 +328,7 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
     // light), shared by all lights; each lands on at most one.
     if (anyMis) {
         Rgb brdf[kMaxBatch];
-        BrdfQueue brdfQueue(accel_, scene_, lights_, power, counts, brdf);
+        BrdfQueue brdfQueue(accel_, scene_, lights_, power, counts, brdf, float(n), float(nBrdf));
         const uint32_t dim = dimBase + uint32_t(nLights) + 1;
         for (size_t q = 0; q < nLit; ++q) {
             if (!mis[lit[q]]) continue;
@@ -327,10 +338,10 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                 if (auto s = samplePhong(*sp.material, sp.kd, sp.ns, sp.wo, u)) brdfQueue.add(lit[q], sp, *s);
             };
             const OwenSobol2D seq = dimensionSequence(lane.key, dim);
-            for (uint32_t k = 0; k < n; ++k) brdfSample(seq.point(lane.key.index * n + k));
+            for (uint32_t k = 0; k < nBrdf; ++k) brdfSample(seq.point(lane.key.index * nBrdf + k));
         }
         brdfQueue.flush();
-        for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += brdf[lit[q]] * invN;
+        for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += brdf[lit[q]] * (1.f / float(nBrdf));
     }
     for (size_t q = 0; q < nLit; ++q) lanes[lit[q]].L += lanes[lit[q]].throughput * sum[lit[q]];
 }

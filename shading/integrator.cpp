@@ -290,6 +290,11 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                             queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, false);
                     continue;
                 }
+                if (n == 1) {  // no set-up to share: skip the chunk arrays
+                    if (auto ls = light.sample(lane.sp.p, seq.point(lane.key.index)))
+                        queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, mis[lit[q]]);
+                    continue;
+                }
                 // In chunks, so that a light's per-shading-point set-up is shared.
                 for (uint32_t k0 = 0; k0 < n; k0 += kSampleChunk) {
                     const uint32_t m = std::min(n - k0, kSampleChunk);

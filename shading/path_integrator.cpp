@@ -162,6 +162,10 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
                     continue;
                 }
                 const OwenSobol2D seq = dimensionSequence(v.key, dims.light(j));
+                if (n == 1) {  // no set-up to share: skip the chunk arrays
+                    if (auto ls = light.sample(v.sp.p, seq.point(v.key.index))) addSample(lit[q], *ls, 1.f, 1.f);
+                    continue;
+                }
                 // In chunks, so that a light's per-shading-point set-up is shared.
                 constexpr uint32_t kChunk = 16;
                 for (uint32_t k0 = 0; k0 < n; k0 += kChunk) {

@@ -192,8 +192,8 @@ TEST(LightSampling, LargeMeshLightPicksByAreaAndFitsItsPdf) {
 }
 
 TEST(LightSampling, FarRectangleSamplesByAreaAndFarSmallMeshLightFitsItsPdf) {
-    // The rectangle's bounding sphere subtends less than kSolidAngleSamplingMinBound
-    // (area sampling); a small mesh light still picks by solid angle.
+    // The rectangle's and the small mesh light's bounding spheres subtend
+    // less than kSolidAngleSamplingMinBound: both sample by area.
     Scene s = emitterScene(false);
     s.rectangles.push_back(Rectangle{Vec3f{3.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.f}, Vec3f{0, 1.f, 0}, 0});
     ShapeAreaLight rect(s, ShapeAreaLight::Kind::Rectangle, 0);
@@ -207,6 +207,29 @@ TEST(LightSampling, FarRectangleSamplesByAreaAndFarSmallMeshLightFitsItsPdf) {
     t.meshes.push_back(m);
     MeshAreaLight mesh(t, 0, 0, {0, 1});
     expectLightFits(t, mesh, Vec3f{0, 0, 0});
+}
+
+TEST(LightSampling, SampleManyGivesWhatSampleGivesPointByPoint) {
+    // A near rectangle (its spherical set-up shared by the points) and a far one (by area).
+    Scene s = emitterScene(false);
+    s.rectangles.push_back(Rectangle{Vec3f{1.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.1f}, Vec3f{0, 1.5f, 0}, 0});
+    ShapeAreaLight light(s, ShapeAreaLight::Kind::Rectangle, 0);
+    for (const Vec3f p : {Vec3f{0, 0, 0}, Vec3f{-6, 0.1f, 0.3f}, Vec3f{2, 0, 0} /* behind: nothing */}) {
+        Vec2f u[7];
+        std::optional<LightSample> many[7];
+        for (uint32_t k = 0; k < 7; ++k) u[k] = multiJitter2D(k, 7, 5);
+        light.sampleMany(p, u, many);
+        for (uint32_t k = 0; k < 7; ++k) {
+            const auto one = light.sample(p, u[k]);
+            ASSERT_EQ(one.has_value(), many[k].has_value());
+            if (!one) continue;
+            EXPECT_EQ(one->point.x, many[k]->point.x);
+            EXPECT_EQ(one->point.y, many[k]->point.y);
+            EXPECT_EQ(one->point.z, many[k]->point.z);
+            EXPECT_EQ(one->pdf, many[k]->pdf);
+            EXPECT_EQ(one->L.r, many[k]->L.r);
+        }
+    }
 }
 
 TEST(LightSampling, AreaSamplingStillFitsItsPdf) {

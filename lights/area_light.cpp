@@ -38,9 +38,13 @@ float areaPdfToSolidAngle(const Vec3f& p, const Vec3f& point, const Vec3f& n, fl
 bool subtendsAtLeast(const Vec3f& c, float r2, const Vec3f& p, float omega) {
     const float d2 = lengthSquared(c - p);
     if (!(d2 > r2)) return true;
-    // 2 pi (1 - cos theta) with 1 - cos = s / (1 + sqrt(1 - s)), s = r^2 / d^2.
-    const float s = r2 / d2;
-    return 2.f * kPi * s / (1.f + std::sqrt(1.f - s)) >= omega;
+    // The cap 2 pi (1 - cos theta), sin^2 theta = r^2 / d^2, grows with
+    // sin^2 theta (outside the sphere theta < 90 degrees, so the cap is at
+    // most 2 pi): compare r^2 with the sin^2 of omega's cap times d^2, no
+    // square root or division.
+    const float cosOmega = 1.f - omega * kInv2Pi;
+    if (!(cosOmega > 0.f)) return false;
+    return r2 >= (1.f - cosOmega * cosOmega) * d2;
 }
 
 namespace {

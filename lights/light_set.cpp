@@ -124,14 +124,10 @@ LightSet::Pick LightSet::pickByPower(float u) const {
     return {i, powerCdf_[i] - lo};
 }
 
-float LightSet::boundingSolidAngle(size_t i, const Vec3f& p) const {
+bool LightSet::mayExceedSolidAngle(size_t i, const Vec3f& p, float omega) const {
     const BoundingSphere& b = bounds_[i];
-    if (b.radius2 < 0.f) return 0.f;
-    const float d2 = lengthSquared(b.center - p);
-    if (!(d2 > b.radius2)) return 4.f * kPi;
-    // 2 pi (1 - cos) with 1 - cos = s / (1 + sqrt(1 - s)), s = sin^2 = r^2 / d^2.
-    const float s = b.radius2 / d2;
-    return 2.f * kPi * s / (1.f + std::sqrt(1.f - s));
+    if (b.radius2 < 0.f) return false;
+    return subtendsAtLeast(b.center, b.radius2, p, omega);
 }
 
 std::optional<size_t> LightSet::lightOf(const Hit& hit) const {

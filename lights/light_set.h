@@ -42,10 +42,10 @@ public:
     /// back of a one-sided emitter.
     std::optional<size_t> lightOf(const Hit& hit) const;
 
-    /// An upper bound of the solid angle area light i subtends at p, from its
-    /// bounding sphere (4 pi inside it; 0 for delta lights). Cheap: for
-    /// deciding where BRDF samples pay.
-    float boundingSolidAngle(size_t i, const Vec3f& p) const;
+    /// Whether area light i may subtend more than omega at p: whether its
+    /// bounding sphere does (always inside it; never for delta lights).
+    /// Cheap (a multiply and a compare): for deciding where BRDF samples pay.
+    bool mayExceedSolidAngle(size_t i, const Vec3f& p, float omega) const;
 
     size_t areaLightCount() const { return areaLights_; }
     float totalEmitterArea() const { return totalArea_; }

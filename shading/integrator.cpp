@@ -223,7 +223,7 @@ constexpr float kLargeLightSolidAngle = 1.f;
 bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
     if (!Rgb(sp.material->ks).isBlack() || lights.environment()) return true;  // an environment subtends 4 pi
     for (size_t j = 0; j < lights.areaLightCount(); ++j)
-        if (lights.boundingSolidAngle(j, sp.p) > kLargeLightSolidAngle) return true;
+        if (lights.mayExceedSolidAngle(j, sp.p, kLargeLightSolidAngle)) return true;
     return false;
 }
 

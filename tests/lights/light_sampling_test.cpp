@@ -209,6 +209,19 @@ TEST(LightSampling, FarRectangleSamplesByAreaAndFarSmallMeshLightFitsItsPdf) {
     expectLightFits(t, mesh, Vec3f{0, 0, 0});
 }
 
+TEST(LightSampling, SubtendsAtLeastAgreesWithTheCapsSolidAngle) {
+    // A unit sphere seen from distance d subtends 2 pi (1 - sqrt(1 - 1/d^2)).
+    for (float d : {1.01f, 1.2f, 1.5f, 2.f, 3.f, 10.f}) {
+        const double cap = 2.0 * 3.14159265358979 * (1.0 - std::sqrt(1.0 - 1.0 / (double(d) * d)));
+        for (float omega : {0.1f, 0.5f, 1.f, 3.f, 6.f}) {
+            if (std::fabs(cap - omega) < 1e-4 * omega) continue;  // too close to call in float
+            EXPECT_EQ(subtendsAtLeast(Vec3f{0, 0, 0}, 1.f, Vec3f{d, 0, 0}, omega), cap >= omega) << d << " " << omega;
+        }
+    }
+    EXPECT_TRUE(subtendsAtLeast(Vec3f{0, 0, 0}, 1.f, Vec3f{0.5f, 0, 0}, 12.f));  // inside: everything
+    EXPECT_FALSE(subtendsAtLeast(Vec3f{0, 0, 0}, 1.f, Vec3f{1.001f, 0, 0}, 7.f));  // outside: at most 2 pi
+}
+
 TEST(LightSampling, SampleManyGivesWhatSampleGivesPointByPoint) {
     // A near rectangle (its spherical set-up shared by the points) and a far one (by area).
     Scene s = emitterScene(false);

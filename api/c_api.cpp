@@ -76,6 +76,14 @@ pnb_status pnb_scene_load(pnb_renderer* renderer, const char* path, const pnb_lo
                 need(options->allowed_roots[i], "an allowed root");
                 lo.allowedRoots.emplace_back(options->allowed_roots[i]);
             }
+            if (options->use_mesh_model) {
+                const int model = rawEnum(options->mesh_model);
+                if (model != PNB_PHONG_NORMALIZED && model != PNB_PHONG_CLASSIC)
+                    throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                                     "options->mesh_model " + std::to_string(model) + " is not a pnb_phong_model");
+                lo.meshModel = static_cast<pnb::PhongModel>(model);
+            }
+            lo.smoothAngleDegrees = options->smooth_angle_degrees;  // checked by loadScene
         }
         auto scene = std::make_unique<pnb_scene>();
         scene->scene = renderer->renderer.loadScene(path, lo);

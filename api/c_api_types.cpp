@@ -217,7 +217,7 @@ void pnb_render_settings_init(pnb_render_settings* settings) {
 }
 
 void pnb_load_options_init(pnb_load_options* o) {
-    if (o) *o = pnb_load_options{0, 1, nullptr, 0};
+    if (o) *o = pnb_load_options{0, 1, nullptr, 0, 0, PNB_PHONG_NORMALIZED, 30.f};
 }
 
 void pnb_prepare_options_init(pnb_prepare_options* o) {

@@ -11,11 +11,13 @@ struct ReportWire {
     std::int64_t primitives, triangles, materials, lights;
     double buildSeconds;
     std::int32_t errorLength, acceleratorLength, hostLength;
+    std::int32_t usageError;
 };
 
 // A Job as it travels: plain numbers only, so MPI_BYTE is exact.
 struct JobWire {
     std::int32_t go;
+    std::int32_t exitCode;  // without go
     std::int32_t width, height, spp, lightSamples, maxDepth, threads, tileSize;
     std::int32_t hasCrop, x0, y0, x1, y1;
     std::int32_t lightSelection, aovs;
@@ -47,7 +49,7 @@ std::vector<char> gatherStrings(const std::string& mine, const std::vector<int>&
 std::vector<SetupReport> gatherReports(const SetupReport& mine, int rank, int size) {
     const ReportWire w{mine.primitives, mine.triangles, mine.materials, mine.lights, mine.buildSeconds,
                        std::int32_t(mine.error.size()), std::int32_t(mine.accelerator.size()),
-                       std::int32_t(mine.host.size())};
+                       std::int32_t(mine.host.size()), std::int32_t(mine.usageError ? 1 : 0)};
     std::vector<ReportWire> wires(rank == 0 ? size_t(size) : 0);
     MPI_Gather(&w, int(sizeof w), MPI_BYTE, wires.data(), int(sizeof w), MPI_BYTE, 0, MPI_COMM_WORLD);
     std::vector<int> errorLengths, accelLengths, hostLengths, errorOffsets, accelOffsets, hostOffsets;
@@ -66,6 +68,7 @@ std::vector<SetupReport> gatherReports(const SetupReport& mine, int rank, int si
         s.error.assign(errors.data() + errorOffsets[size_t(r)], size_t(x.errorLength));
         s.accelerator.assign(accels.data() + accelOffsets[size_t(r)], size_t(x.acceleratorLength));
         s.host.assign(hosts.data() + hostOffsets[size_t(r)], size_t(x.hostLength));
+        s.usageError = x.usageError != 0;
         s.primitives = x.primitives;
         s.triangles = x.triangles;
         s.materials = x.materials;
@@ -76,11 +79,12 @@ std::vector<SetupReport> gatherReports(const SetupReport& mine, int rank, int si
     return reports;
 }
 
-std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank) {
+Decision broadcastDecision(const Decision& fromRoot, int rank) {
     JobWire w{};
-    if (rank == 0 && fromRoot) {
-        const pnb::RenderSettings& s = fromRoot->settings;
-        const pnb::Camera& c = fromRoot->camera;
+    if (rank == 0) w.exitCode = fromRoot.exitCode;
+    if (rank == 0 && fromRoot.job) {
+        const pnb::RenderSettings& s = fromRoot.job->settings;
+        const pnb::Camera& c = fromRoot.job->camera;
         w.go = 1;
         w.width = s.width;
         w.height = s.height;
@@ -113,7 +117,7 @@ std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank) {
         w.focusDistance = c.focusDistance;
     }
     MPI_Bcast(&w, int(sizeof w), MPI_BYTE, 0, MPI_COMM_WORLD);
-    if (!w.go) return std::nullopt;
+    if (!w.go) return {std::nullopt, w.exitCode};
     Job job;
     pnb::RenderSettings& s = job.settings;
     s.width = w.width;
@@ -136,7 +140,7 @@ std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank) {
     c.vfovDegrees = w.vfov;
     c.aperture = w.aperture;
     c.focusDistance = w.focusDistance;
-    return job;
+    return {job, 0};
 }
 
 std::string rankName(int rank, const std::string& host) {

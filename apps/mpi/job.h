@@ -26,6 +26,7 @@ enum Tag : int {
 /// How one rank's loading (and preparing) went.
 struct SetupReport {
     std::string error;  ///< empty when it went well
+    bool usageError = false;  ///< the error is a bad option value (exit code 2, as penumbra's)
     std::string host;   ///< MPI_Get_processor_name
     // What it loaded: ranks that read different scene files must not mix tiles.
     std::int64_t primitives = 0, triangles = 0, materials = 0;
@@ -39,13 +40,19 @@ struct SetupReport {
 /// Collective.
 std::vector<SetupReport> gatherReports(const SetupReport& mine, int rank, int size);
 
-/// What rank 0 decided: render (settings and camera) or stop (nullopt).
+/// The settings and camera every rank renders with.
 struct Job {
     pnb::RenderSettings settings;
     pnb::Camera camera;
 };
+/// What rank 0 decided: render the job, or stop with an exit code (every rank
+/// returns it, so that mpirun reports the code penumbra would).
+struct Decision {
+    std::optional<Job> job;
+    int exitCode = 1;  ///< without a job
+};
 /// Rank 0 passes its decision; every rank returns it. Collective.
-std::optional<Job> broadcastJob(const std::optional<Job>& fromRoot, int rank);
+Decision broadcastDecision(const Decision& fromRoot, int rank);
 
 /// A worker's sums over all its tiles, sent with kTagDone.
 struct WorkerTotals {

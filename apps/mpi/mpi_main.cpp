@@ -23,6 +23,7 @@
 #include "outputs.h"
 #include "coordinator.h"
 #include "job.h"
+#include "option_checks.h"
 #include "progress_reporter.h"
 #include "worker.h"
 
@@ -80,7 +81,7 @@ Setup setUp(const Options& o, pnb::Renderer& renderer, int rank, int size) {
     setup.report.host = processorName();
     const bool renders = rank != 0 || size == 1;
     try {
-        if (rank == 0) cli::precheckOutputs(o);
+        if (rank == 0) cli::precheckOptions(o);  // what needs no scene, before loading it
         cli::SceneReads reads;
         pnb::Scene scene = renderer.loadScene(o.scene.string(), cli::loadOptionsFor(o, reads));
         setup.report.primitives = std::int64_t(scene.primitiveCount());
@@ -89,14 +90,11 @@ Setup setUp(const Options& o, pnb::Renderer& renderer, int rank, int size) {
         if (rank == 0) {
             cli::checkSceneReads(o, reads, "penumbra-mpi");
             Job job;
-            job.settings = cli::settingsFrom(o, scene.settings());
-            pnb::validate(job.settings);
-            job.camera = scene.defaultCamera(float(job.settings.width) / float(job.settings.height), o.fov.value_or(40.f));
-            cli::applyCameraOptions(o, job.camera);
-            pnb::validate(job.camera);
+            job.settings = cli::checkedSettings(o, scene);
+            job.camera = cli::checkedCamera(o, scene, job.settings);
             setup.job = job;
         }
-        cli::applyLightOptions(o, scene);
+        cli::asUsage([&] { cli::applyLightOptions(o, scene); });
         if (renders) {
             if (rank == 1) renderer.setLog({}, pnb::LogLevel::Warning);  // scene repairs, said once
             pnb::PrepareOptions prep;
@@ -107,6 +105,9 @@ Setup setUp(const Options& o, pnb::Renderer& renderer, int rank, int size) {
             setup.report.buildSeconds = setup.prepared.buildSeconds();
             setup.report.accelerator = setup.prepared.accelerator();
         }
+    } catch (const cli::UsageError& e) {
+        setup.report.error = e.what();
+        setup.report.usageError = true;
     } catch (const std::bad_alloc&) {
         setup.report.error = o.scene.string() + ": out of memory while loading or preparing the scene";
     } catch (const std::exception& e) {
@@ -115,18 +116,26 @@ Setup setUp(const Options& o, pnb::Renderer& renderer, int rank, int size) {
     return setup;
 }
 
-/// Rank 0: the first problem of any rank (its own first), or "" when all is well.
-std::string firstProblem(const std::vector<SetupReport>& reports, const Options& o) {
-    if (!reports[0].error.empty()) return reports[0].error;
+/// What stops the job: a message (empty when all is well) and whether it is a
+/// usage error (a bad option value: exit code 2 and "(see --help)", as penumbra's).
+struct Problem {
+    std::string message;
+    bool usage = false;
+};
+
+/// Rank 0: the first problem of any rank (its own first).
+Problem firstProblem(const std::vector<SetupReport>& reports, const Options& o) {
+    if (!reports[0].error.empty()) return {reports[0].error, reports[0].usageError};
     for (size_t r = 1; r < reports.size(); ++r)
-        if (!reports[r].error.empty()) return rankName(int(r), reports[r].host) + ": " + reports[r].error;
+        if (!reports[r].error.empty())
+            return {rankName(int(r), reports[r].host) + ": " + reports[r].error, reports[r].usageError};
     for (size_t r = 1; r < reports.size(); ++r) {
         const SetupReport &a = reports[0], &b = reports[r];
         if (a.primitives != b.primitives || a.triangles != b.triangles || a.materials != b.materials)
-            return rankName(int(r), b.host) + ": " + o.scene.string() + " holds " + std::to_string(b.primitives) +
-                   " primitives, " + std::to_string(b.triangles) + " triangles and " + std::to_string(b.materials) +
-                   " materials there, but " + std::to_string(a.primitives) + ", " + std::to_string(a.triangles) +
-                   " and " + std::to_string(a.materials) + " on rank 0: every rank must read the same scene";
+            return {rankName(int(r), b.host) + ": " + o.scene.string() + " holds " + std::to_string(b.primitives) +
+                    " primitives, " + std::to_string(b.triangles) + " triangles and " + std::to_string(b.materials) +
+                    " materials there, but " + std::to_string(a.primitives) + ", " + std::to_string(a.triangles) +
+                    " and " + std::to_string(a.materials) + " on rank 0: every rank must read the same scene"};
     }
     return {};
 }
@@ -165,7 +174,8 @@ int run(int argc, char** argv, int rank, int size) {
     cli::ParseResult parsed;
     std::string parseError;
     try {
-        parsed = rank == 0 ? cli::parseCommandLine(argc, argv) : silenced([&] { return cli::parseCommandLine(argc, argv); });
+        parsed = rank == 0 ? cli::parseCommandLine(argc, argv, "penumbra-mpi")
+                           : silenced([&] { return cli::parseCommandLine(argc, argv, "penumbra-mpi"); });
     } catch (const std::exception& e) {
         parseError = e.what();
     }
@@ -184,16 +194,21 @@ int run(int argc, char** argv, int rank, int size) {
     Setup setup = setUp(o, renderer, rank, size);
 
     const std::vector<SetupReport> reports = gatherReports(setup.report, rank, size);
-    std::optional<Job> decided;
+    Decision decided;
     if (rank == 0) {
-        const std::string problem = firstProblem(reports, o);
-        if (!problem.empty())
-            std::fprintf(stderr, "penumbra-mpi: error: %s\n", problem.c_str());
-        else
-            decided = setup.job;
+        const Problem problem = firstProblem(reports, o);
+        if (problem.message.empty()) {
+            decided.job = setup.job;
+        } else if (problem.usage) {
+            decided.exitCode = cli::reportUsageError(problem.message, "penumbra-mpi");
+        } else {
+            std::fprintf(stderr, "penumbra-mpi: error: %s\n", problem.message.c_str());
+            decided.exitCode = 1;
+        }
     }
-    const std::optional<Job> job = broadcastJob(decided, rank);
-    if (!job) return 1;
+    const Decision decision = broadcastDecision(decided, rank);
+    if (!decision.job) return decision.exitCode;
+    const std::optional<Job>& job = decision.job;
 
     if (rank != 0) {
         runWorker(renderer, setup.prepared, *job, rank, setup.report.host);

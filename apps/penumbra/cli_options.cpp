@@ -98,11 +98,11 @@ std::string seedProblem(const std::string& v) {
     return {};
 }
 
-int reportUsageError(const std::string& message) {
+int reportUsageError(const std::string& message, const char* program) {
     std::string msg = message;
     for (char& c : msg)
         if (c == '\n' || c == '\r') c = ' ';
-    std::fprintf(stderr, "penumbra: error: %s (see --help)\n", msg.c_str());
+    std::fprintf(stderr, "%s: error: %s (see --help)\n", program, msg.c_str());
     return 2;
 }
 
@@ -149,7 +149,7 @@ void readValues(Options& o, const std::string& eye, const std::string& lookAt, c
 
 }  // namespace
 
-ParseResult parseCommandLine(int argc, char** argv) {
+ParseResult parseCommandLine(int argc, char** argv, const char* program) {
     CLI::App app{"penumbra: render a scene (JSON, OBJ/MTL, or a model Assimp reads: PLY, STL, glTF, FBX, COLLADA, ...) "
                  "with Embree-accelerated Whitted ray tracing or path tracing"};
     // As most Unix tools: a repeated option takes its last value (aliases and wrappers add defaults before the user's).
@@ -210,7 +210,7 @@ ParseResult parseCommandLine(int argc, char** argv) {
         // --help ends the program successfully; anything else is a usage error:
         // one line, and exit code 2 (CLI11's own codes run from 100 to 115).
         if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return {std::nullopt, app.exit(e)};
-        return {std::nullopt, reportUsageError(e.what())};
+        return {std::nullopt, reportUsageError(e.what(), program)};
     }
     if (oWidth->count()) o.width = width;
     if (oHeight->count()) o.height = height;
@@ -227,7 +227,7 @@ ParseResult parseCommandLine(int argc, char** argv) {
     try {
         readValues(o, eye, lookAt, up, ambient, background, crop, lightSelection, model);
     } catch (const Error& e) {
-        return {std::nullopt, reportUsageError(e.what())};
+        return {std::nullopt, reportUsageError(e.what(), program)};
     }
     // --env problems are usage errors (exit 2), like CLI11's own.
     try {
@@ -248,7 +248,7 @@ ParseResult parseCommandLine(int argc, char** argv) {
             o.directLight = directLight;
         }
     } catch (const Error& e) {
-        return {std::nullopt, reportUsageError(e.what())};
+        return {std::nullopt, reportUsageError(e.what(), program)};
     }
     return {o, 0};
 }

@@ -46,17 +46,17 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-/// Prints "penumbra: error: MESSAGE (see --help)" on one line; returns 2.
-int reportUsageError(const std::string& message);
+/// Prints "PROGRAM: error: MESSAGE (see --help)" on one line; returns 2.
+int reportUsageError(const std::string& message, const char* program = "penumbra");
 
 /// Parses argv; a repeated option takes its last value. Returns the options,
 /// or an exit code when parsing ended the program (help printed: 0; usage
-/// error or bad option value printed: 2).
+/// error or bad option value printed, as `program`: 2).
 struct ParseResult {
     std::optional<Options> options;
     int exitCode = 0;
 };
-ParseResult parseCommandLine(int argc, char** argv);
+ParseResult parseCommandLine(int argc, char** argv, const char* program = "penumbra");
 
 /// "x,y,z" -> Vec3; throws pnb::Error(InvalidArgument) naming the option.
 pnb::Vec3 parseVec3(const std::string& text, const std::string& option);

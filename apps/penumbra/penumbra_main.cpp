@@ -24,6 +24,7 @@
 
 #include "cli_options.h"
 #include "cli_settings.h"
+#include "option_checks.h"
 #include "outputs.h"
 #include "progress_reporter.h"
 
@@ -48,48 +49,6 @@ double peakMemoryMiB() {
     rusage ru{};
     ::getrusage(RUSAGE_SELF, &ru);
     return double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
-}
-
-/// Runs `check`; its pnb::Error becomes a UsageError (exit code 2): what it
-/// checks is a command-line value (on top of values known to be valid).
-template <class F>
-void asUsage(F&& check) {
-    try {
-        check();
-    } catch (const Error& e) {
-        throw UsageError(e.what());
-    }
-}
-
-// Everything that can be checked without reading the scene, checked before any work.
-void precheck(const Options& o) {
-    asUsage([&] {
-        pnb::RenderSettings s = settingsFrom(o, {});
-        s.crop.reset();  // the crop is checked against the final size later
-        pnb::validate(s);
-        if (o.eye && o.lookAt) {
-            pnb::Camera c;
-            applyCameraOptions(o, c);
-            pnb::validate(c);
-        }
-        pnb::Scene probe;
-        Options colours = o;
-        colours.envImage.reset();  // opened once, into the loaded scene
-        applyLightOptions(colours, probe);
-    });
-    try {
-        pnb::checkImagePath(o.output.string());
-    } catch (const Error& e) {
-        if (e.code() == ErrorCode::InvalidArgument) throw UsageError(std::string("-o: ") + e.what());  // not an image format
-        throw;
-    }
-    std::error_code ec;
-    if (o.envImage && fs::symlink_status(*o.envImage, ec).type() == fs::file_type::not_found)
-        throw Error(ErrorCode::FileNotFound, o.envImage->string() + ": no such file");
-    // symlink_status: a symlink loop or a FIFO exists, and the loader says what it is.
-    if (fs::symlink_status(o.scene, ec).type() == fs::file_type::not_found)
-        throw Error(ErrorCode::FileNotFound, o.scene.string() + ": no such file");
-    precheckOutputs(o);
 }
 
 // Written in full or reported: a short write (a full disk, /dev/full) is an error.
@@ -133,7 +92,7 @@ uint64_t peakImageBytes(const pnb::RenderSettings& s, bool exrWithAovs) {
 // says nothing about where).
 int runSteps(const Options& o, std::string& step) {
     const auto t0 = std::chrono::steady_clock::now();
-    precheck(o);
+    precheckOptions(o);
 
     pnb::Renderer renderer;  // warnings and errors to stderr
     SceneReads reads;
@@ -142,9 +101,7 @@ int runSteps(const Options& o, std::string& step) {
     pnb::Scene scene = renderer.loadScene(o.scene.string(), loadOptions);
     checkSceneReads(o, reads, "penumbra");
 
-    const pnb::RenderSettings settings = settingsFrom(o, scene.settings());
-    // The scene's own settings were checked when it loaded: what fails now is the command line's (a crop outside the frame).
-    asUsage([&] { pnb::validate(settings); });
+    const pnb::RenderSettings settings = checkedSettings(o, scene);
     const uint64_t imageBytes = peakImageBytes(settings, isExr(o.output) && o.aovs);
     const uint64_t ram = physicalMemoryBytes();
     if (ram && imageBytes > ram / 2)
@@ -152,23 +109,7 @@ int runSteps(const Options& o, std::string& step) {
                                                 " image needs " + std::to_string(imageBytes >> 20) +
                                                 " MiB for its framebuffer and output, more than half of this machine's memory");
 
-    pnb::Camera camera = scene.defaultCamera(float(settings.width) / float(settings.height), o.fov.value_or(40.f));
-    std::optional<Error> sceneCamera;  // framing a scene of absurd extent can fail
-    try {
-        pnb::validate(camera);
-    } catch (const Error& e) {
-        sceneCamera = Error(e.code(), o.scene.string() + ": " + e.what());
-    }
-    applyCameraOptions(o, camera);
-    if (sceneCamera) {
-        try {
-            pnb::validate(camera);
-        } catch (const Error&) {
-            throw *sceneCamera;
-        }
-    }
-    // The scene's camera was valid: a failure now is the command line's.
-    asUsage([&] { pnb::validate(camera); });
+    const pnb::Camera camera = checkedCamera(o, scene, settings);
     asUsage([&] { applyLightOptions(o, scene); });
 
     pnb::PrepareOptions prep;

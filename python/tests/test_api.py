@@ -208,5 +208,27 @@ def test_load_scene_reads_models_with_a_model_and_smoothing(tmp_path):
     renderer = penumbra.Renderer()
     scene = renderer.load_scene(path, model=penumbra.PhongModel.Classic, smooth_angle=0)
     assert scene.triangle_count == 2
+
+    # Both options take effect: a pyramid without normals, lit by a point light, shades
+    # differently with each model, and has other normals (AOV channels 6-8) smoothed than faceted.
+    pyramid = tmp_path / "pyramid.ply"
+    pyramid.write_text("ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+                       "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                       "-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n0 0 1.2\n3 0 1 4\n3 1 2 4\n3 2 3 4\n3 3 0 4\n")
+
+    def image(**options):
+        s = renderer.load_scene(pyramid, **options)
+        s.add_point_light((1, 2, 4), (20, 20, 20))
+        camera = penumbra.Camera(eye=(0, 0, 4), look_at=(0, 0, 0))
+        return renderer.render(s, camera, width=24, height=24, spp=2, aovs=True)
+
+    classic = image(model=penumbra.PhongModel.Classic, smooth_angle=0)
+    normalized = image(model=penumbra.PhongModel.Normalized, smooth_angle=0)
+    smoothed = image(model=penumbra.PhongModel.Classic, smooth_angle=90)
+    assert not numpy.array_equal(classic[..., :3], normalized[..., :3])
+    assert numpy.array_equal(classic[..., 6:9], normalized[..., 6:9])
+    assert not numpy.array_equal(classic[..., 6:9], smoothed[..., 6:9])
+    with pytest.raises(penumbra.Error, match="smooth angle"):
+        renderer.load_scene(pyramid, smooth_angle=200)
     with pytest.raises(penumbra.Error, match="quad.xyz"):
         renderer.load_scene(tmp_path / "quad.xyz")

@@ -562,6 +562,109 @@ TEST(CApi, LoadsScenesWithRestrictedPathsAndLogsWarnings) {
     pnb_scene_destroy(loaded);
 }
 
+// pnb_load_options' mesh options (penumbra's --model and --smooth-angle): a PLY
+// pyramid without normals loads as the C++ API loads it with the same
+// LoadOptions (the same image, bit for bit), the options change the image, and
+// bad values are refused naming them.
+TEST(CApi, LoadsMeshFilesWithAPhongModelAndSmoothing) {
+    Fixture f;
+    const auto dir = penumbra::test::tempDir();
+    const std::string ply = penumbra::test::writeFile(dir / "pyramid.ply", R"(ply
+format ascii 1.0
+element vertex 5
+property float x
+property float y
+property float z
+element face 4
+property list uchar int vertex_indices
+end_header
+-1 -1 0
+1 -1 0
+1 1 0
+-1 1 0
+0 0 1.2
+3 0 1 4
+3 1 2 4
+3 2 3 4
+3 3 0 4
+)").string();
+    pnb_load_options defaults;
+    pnb_load_options_init(&defaults);
+    EXPECT_EQ(defaults.use_mesh_model, 0);
+    EXPECT_EQ(defaults.mesh_model, PNB_PHONG_NORMALIZED);
+    EXPECT_EQ(defaults.smooth_angle_degrees, 30.f);
+
+    f.settings.aovs = 1;
+    const size_t pixels = size_t(f.settings.width) * size_t(f.settings.height);
+    struct Render {
+        std::vector<float> rgba, normals;
+    };
+    auto renderC = [&](const pnb_load_options& options) {
+        pnb_scene* loaded = nullptr;
+        Render out;
+        EXPECT_EQ(pnb_scene_load(f.renderer, ply.c_str(), &options, &loaded), PNB_OK) << lastError();
+        if (!loaded) return out;
+        EXPECT_EQ(pnb_scene_add_point_light(loaded, v3(1, 2, 4), gray(20.f)), PNB_OK);
+        pnb_prepared_scene* prepared = nullptr;
+        pnb_framebuffer* image = nullptr;
+        EXPECT_EQ(pnb_prepare(f.renderer, loaded, nullptr, &prepared), PNB_OK) << lastError();
+        EXPECT_EQ(pnb_framebuffer_create(&f.settings, &image), PNB_OK);
+        EXPECT_EQ(pnb_render(f.renderer, prepared, &f.camera, &f.settings, image, nullptr, nullptr), PNB_OK);
+        out.rgba.resize(pixels * 4);
+        out.normals.resize(pixels * 3);
+        EXPECT_EQ(pnb_framebuffer_read_rgba(image, out.rgba.data(), out.rgba.size()), PNB_OK) << lastError();
+        EXPECT_EQ(pnb_framebuffer_read_normals(image, out.normals.data(), out.normals.size()), PNB_OK) << lastError();
+        pnb_framebuffer_destroy(image);
+        pnb_prepared_scene_destroy(prepared);
+        pnb_scene_destroy(loaded);
+        return out;
+    };
+    pnb_load_options classicFaceted = defaults;
+    classicFaceted.use_mesh_model = 1;
+    classicFaceted.mesh_model = PNB_PHONG_CLASSIC;
+    classicFaceted.smooth_angle_degrees = 0.f;
+    const Render c = renderC(classicFaceted);
+
+    const pnb::Renderer r([](pnb::LogLevel, std::string_view) {});
+    pnb::LoadOptions lo;
+    lo.meshModel = pnb::PhongModel::Classic;
+    lo.smoothAngleDegrees = 0.f;
+    pnb::Scene cpp = r.loadScene(ply, lo);
+    cpp.addPointLight({1, 2, 4}, pnb::gray(20.f));
+    pnb::RenderSettings st;
+    st.width = st.height = 33;
+    st.spp = 8;
+    st.seed = 3;
+    st.aovs = true;
+    pnb::Camera cam;
+    cam.eye = {0, 0, 4};
+    cam.lookAt = {0, 0, 0};
+    EXPECT_TRUE(sameBits(c.rgba, r.render(r.prepare(cpp), cam, st).rgba()));
+
+    // Each option changes the image: the model its shading, the angle its normals (the pyramid's
+    // faces meet at under 90 degrees: smoothed at 90, faceted at 0).
+    pnb_load_options normalized = classicFaceted;
+    normalized.mesh_model = PNB_PHONG_NORMALIZED;
+    const Render n = renderC(normalized);
+    EXPECT_FALSE(sameBits(c.rgba, n.rgba));
+    EXPECT_EQ(c.normals, n.normals);
+    pnb_load_options smooth = classicFaceted;
+    smooth.smooth_angle_degrees = 90.f;
+    EXPECT_NE(c.normals, renderC(smooth).normals);
+
+    pnb_scene* loaded = nullptr;
+    pnb_load_options bad = defaults;
+    bad.use_mesh_model = 1;
+    setRaw(bad.mesh_model, 7);
+    EXPECT_EQ(pnb_scene_load(f.renderer, ply.c_str(), &bad, &loaded), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(lastError().find("options->mesh_model 7 is not a pnb_phong_model"), std::string::npos) << lastError();
+    bad = defaults;
+    bad.smooth_angle_degrees = 200.f;
+    EXPECT_EQ(pnb_scene_load(f.renderer, ply.c_str(), &bad, &loaded), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(lastError().find("smooth angle must lie in [0, 180] degrees"), std::string::npos) << lastError();
+    EXPECT_EQ(loaded, nullptr);
+}
+
 TEST(CApi, ErrorsAreKeptPerThread) {
     EXPECT_EQ(pnb_scene_add_sphere(nullptr, v3(0, 0, 0), 1.f, 0), PNB_ERROR_INVALID_ARGUMENT);
     std::string other;

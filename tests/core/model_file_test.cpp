@@ -276,6 +276,141 @@ TEST(ModelFile, UnknownMalformedAndEmptyFilesAreErrorsNamingTheFile) {
     }
 }
 
+// Assimp 5.2.5 leaks a data URI's decoded buffer when its base64 holds a byte
+// outside ASCII (a fuzz_model finding), and takes a string starting with U+0010
+// for a data URI; the loader refuses both first. The ASan suite reports the leak
+// if that check goes.
+TEST(ModelFile, GltfDataUrisOutsideAsciiAreRefusedBeforeAssimp) {
+    const fs::path dir = test::tempDir();
+    const std::string good = test::twoQuadsGltf();
+    const size_t at = good.find(";base64,") + 20;
+    ASSERT_NE(at, std::string::npos + 20);
+    struct Case {
+        const char* name;
+        std::string text;
+        const char* why;
+    };
+    const Case cases[] = {
+        {"raw.gltf", good.substr(0, at) + "\xc3\xa9" + good.substr(at + 2), "a data: URI holds a character that is not ASCII"},
+        {"escaped.gltf", good.substr(0, at) + "\\u00e9" + good.substr(at + 2), "a data: URI holds a character that is not ASCII"},
+        {"u0010.gltf", test::twoQuadsGltf("\\u0010\\u0001\\u0000\\u0003\\u0005AAAA"), "starts with the control character U+0010"}};
+    for (const Case& c : cases) {
+        test::writeFile(dir / c.name, c.text);
+        const std::string err = errorOf(dir / c.name);
+        EXPECT_NE(err.find((dir / c.name).string() + ": cannot read as gltf: "), std::string::npos) << err;
+        EXPECT_NE(err.find(c.why), std::string::npos) << c.name << ": " << err;
+    }
+    // The same bytes elsewhere (a name) are fine.
+    std::string named = good;
+    named.replace(named.find("\"glow\""), 6, "\"gl\xc3\xb6w\"");
+    test::writeFile(dir / "named.gltf", named);
+    EXPECT_EQ(errorOf(dir / "named.gltf"), "");
+}
+
+// Assimp 5.2.5's ASCII STL reader leaks a solid's mesh and node (2,464 bytes)
+// when it throws inside the solid (a fuzz_model finding): text STL files are
+// checked first, and the error names the line. Well-formed ones still load.
+TEST(ModelFile, MalformedAsciiStlIsRefusedBeforeAssimpWellFormedLoads) {
+    const fs::path dir = test::tempDir();
+    const std::string facet = "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 1 1 0\n endloop\nendfacet\n";
+    struct Case {
+        const char* name;
+        std::string text;
+        const char* why;
+    };
+    const Case cases[] = {
+        {"two_vertices.stl", "solid q\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n endloop\nendfacet\nendsolid q\n",
+         "line 6: ' endloop' where 'vertex X Y Z' was expected"},
+        {"bad_number.stl", "solid q\nfacet normal 0 0 1e\n", "line 2: "},
+        {"garbled.stl", "solid q\nfacet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  v\x80\x80\x80\x80" "ertex 1 0 0\n", "line 5: "},
+        {"split_vertex.stl", "solid q\nfacet normal 0 0 1\n outer loop\n  vertex 0 0\n0\n", "line 4: "},
+        {"unended.stl", "solid q\n" + facet, "ends inside a solid"},
+        {"keyword_name.stl", "solid q facet\n" + facet + "endsolid q\n", "keyword 'facet'"},
+        {"utf16.stl", std::string("\xff\xfes\0o\0l\0i\0d\0", 12), "UTF-16"}};
+    for (const Case& c : cases) {
+        test::writeFile(dir / c.name, c.text);
+        const std::string err = errorOf(dir / c.name);
+        EXPECT_NE(err.find((dir / c.name).string() + ": cannot read as stl: "), std::string::npos) << err;
+        EXPECT_NE(err.find(c.why), std::string::npos) << c.name << ": " << err;
+        EXPECT_EQ(err.find('\n'), std::string::npos) << err;
+    }
+
+    // CRLF lines, tabs, a UTF-8 byte-order mark, two solids, numbers as C writes them.
+    std::string crlf = "\xef\xbb\xbfsolid first part\r\n";
+    for (char ch : facet) crlf += ch == '\n' ? std::string("\r\n") : std::string(1, ch == ' ' ? '\t' : ch);
+    crlf += "endsolid first\r\n\r\nsolid second\nfacet normal -0 +0 1.0e+0\nouter loop\n"
+            "vertex .5 0. 0\nvertex 1.5E0 -0 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid\n";
+    test::writeFile(dir / "good.stl", crlf);
+    Quiet q;
+    LoadedScene s = loadScene(dir / "good.stl", {}, q.logger);
+    EXPECT_EQ(s.scene.triangleCount(), 2u);
+
+    // A binary STL whose 80-byte header starts with "solid" is binary (its size says so).
+    std::string binary = "solid but binary";
+    binary.resize(80, ' ');
+    binary += std::string("\x01\0\0\0", 4);
+    const float tri[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 1, 0};
+    binary.append(reinterpret_cast<const char*>(tri), sizeof tri);
+    binary += std::string(2, '\0');
+    test::writeFile(dir / "binary.stl", binary);
+    EXPECT_EQ(loadScene(dir / "binary.stl", {}, q.logger).scene.triangleCount(), 1u);
+}
+
+// Where two Assimp readers claim an extension (.gltf, .glb) and neither accepts
+// the file, Assimp would try every other format's reader: a PLY header in a
+// .gltf hung the PLY reader. Such a file is refused instead: not JSON, or JSON
+// that is not glTF.
+TEST(ModelFile, GltfThatNoGltfReaderAcceptsIsRefusedNotReadAsAnotherFormat) {
+    const fs::path dir = test::tempDir();
+    struct Case {
+        const char* name;
+        std::string text;
+        const char* why;
+    };
+    const Case cases[] = {
+        {"ply.gltf", "ply\nformat ascii 1.0\nelement vertex 1\n", "the JSON is not valid"},
+        {"stl.glb", "solid q\nfacet normal 0 0 1\nendsolid q\n", "the JSON is not valid"},
+        {"solid.gltf", "{\"solid q\": \"*3dsmax_asciiexport\"}\n", "none of Assimp's readers of .gltf files accepts it"}};
+    for (const Case& c : cases) {
+        test::writeFile(dir / c.name, c.text);
+        const std::string err = errorOf(dir / c.name);
+        EXPECT_NE(err.find((dir / c.name).string() + ": cannot read as "), std::string::npos) << err;
+        EXPECT_NE(err.find(c.why), std::string::npos) << c.name << ": " << err;
+    }
+}
+
+// Assimp 5.2.5 bounds an accessor by its buffer view's length but not by its
+// byteOffset, and read past the buffer (a fuzz_model finding): accessors and
+// buffer views must lie inside what they view.
+TEST(ModelFile, GltfAccessorsAndViewsPastTheirBufferAreRefused) {
+    const fs::path dir = test::tempDir();
+    const std::string good = test::twoQuadsGltf();
+    struct Case {
+        const char* name;
+        const char* from;
+        const char* to;
+        const char* why;
+    };
+    const Case cases[] = {
+        {"accessor.gltf", "\"byteOffset\": 48, \"componentType\": 5126", "\"byteOffset\": 68, \"componentType\": 5126",
+         "accessors[1] reads bytes up to 116 of bufferViews[0], which has 96"},
+        {"view.gltf", "\"byteOffset\": 96, \"byteLength\": 12", "\"byteOffset\": 100, \"byteLength\": 12",
+         "bufferViews[1] (byteOffset 100, byteLength 12) reaches past its buffer's 108 bytes"},
+        {"type.gltf", "\"type\": \"SCALAR\"", "\"type\": \"VEC5\"", "accessors[2].type is not a glTF accessor type"},
+        {"nobuffer.gltf", "{\"buffer\": 0, \"byteOffset\": 96", "{\"buffer\": 3, \"byteOffset\": 96",
+         "bufferViews[1].buffer names no entry of 'buffers'"}};
+    for (const Case& c : cases) {
+        std::string text = good;
+        const size_t at = text.find(c.from);
+        ASSERT_NE(at, std::string::npos) << c.from;
+        text.replace(at, std::string(c.from).size(), c.to);
+        test::writeFile(dir / c.name, text);
+        const std::string err = errorOf(dir / c.name);
+        EXPECT_NE(err.find((dir / c.name).string() + ": cannot read as gltf: "), std::string::npos) << err;
+        EXPECT_NE(err.find(c.why), std::string::npos) << c.name << ": " << err;
+    }
+}
+
 TEST(SharedScenes, StanfordBunnyPlyHasAllItsTriangles) {
     const fs::path ply = test::sharedScenePath("bunny_stanford/bun_zipper.ply");
     if (ply.empty()) GTEST_SKIP() << "../shared/scenes not present";

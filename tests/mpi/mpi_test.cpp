@@ -226,9 +226,49 @@ TEST(MpiRender, UsageErrorIsReportedOnce) {
     const fs::path scene = smallScene(dir);
     const RunResult r = runCommand(mpirun("-np 3 " + penumbraMpi() + " " + scene.string() + " -o " +
                                           (dir / "x.exr").string() + " --light-selection some"));
-    EXPECT_NE(r.exitCode, 0);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_EQ(countOf(r.output, "error:"), 1u) << r.output;
-    EXPECT_NE(r.output.find("--light-selection"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("penumbra-mpi: error: --light-selection: expected all or power, got 'some' (see --help)"),
+              std::string::npos)
+        << r.output;
+}
+
+// Bad option values found only once the scene is loaded (a crop outside the
+// scene's 56x40 image), or before it (an -o that is no image format), exit 2
+// with penumbra's message, as penumbra does; a scene's own problem exits 1.
+TEST(MpiRender, BadOptionValuesFoundAfterLoadingExitTwoLikePenumbra) {
+    REQUIRE_MPI();
+    const fs::path dir = test::tempDir();
+    const fs::path scene = smallScene(dir);
+    const std::string out = (dir / "never.exr").string();
+    struct Case {
+        std::string options;
+        const char* message;
+    };
+    const Case cases[] = {
+        {" -o " + out + " --crop 0,0,900,900", "crop window 0,0,900,900 must satisfy"},
+        {" -o " + out + " --fov 0", "camera: fov must lie in (0, 180) degrees"},
+        {" -o " + out + " --ambient -1,0,0", "--ambient: ambient light must be finite and >= 0"},
+        {" -o " + (dir / "never.xyz").string(), "-o: "}};
+    for (const Case& c : cases) {
+        const RunResult single = runCommand(penumbraCli() + " " + scene.string() + " -q" + c.options);
+        const RunResult r = runCommand(mpirun("-np 3 " + penumbraMpi() + " " + scene.string() + " -q" + c.options));
+        EXPECT_EQ(single.exitCode, 2) << single.output;
+        EXPECT_EQ(r.exitCode, 2) << c.options << ": " << r.output;
+        EXPECT_EQ(countOf(r.output, "error:"), 1u) << r.output;
+        const size_t at = r.output.find(std::string("penumbra-mpi: error: ") + c.message);
+        EXPECT_NE(at, std::string::npos) << r.output;
+        EXPECT_NE(r.output.find("(see --help)\n", at), std::string::npos) << r.output;
+        // The same line as penumbra's, under the other name.
+        const size_t s = single.output.find("penumbra: error: ");
+        ASSERT_NE(s, std::string::npos) << single.output;
+        const std::string line = single.output.substr(s + 17, single.output.find('\n', s) - s - 17);
+        EXPECT_NE(r.output.find("penumbra-mpi: error: " + line + "\n"), std::string::npos) << line << "\n" << r.output;
+    }
+    const RunResult missing = runCommand(mpirun("-np 2 " + penumbraMpi() + " " + (dir / "none.json").string() + " -o " + out));
+    EXPECT_EQ(missing.exitCode, 1) << missing.output;
+    EXPECT_EQ(missing.output.find("(see --help)"), std::string::npos) << missing.output;
+    expectOnly(dir, {"small.json"});
 }
 
 TEST(Crops, OiiotoolAssemblesCropsIntoTheFullFrameBitForBit) {

@@ -149,11 +149,18 @@ typedef struct pnb_render_settings {
     pnb_direct_light direct_light;
 } pnb_render_settings;
 
+/* Fill with pnb_load_options_init first. */
 typedef struct pnb_load_options {
     int strict;                       /* skippable problems become errors */
     int restrict_paths;               /* default 1: read only below the scene's folder and allowed_roots */
     const char* const* allowed_roots; /* further folders (may be NULL) */
     size_t allowed_root_count;
+    /* Mesh and model files (OBJ/MTL, PLY, glTF, ...), as penumbra's --model and --smooth-angle; a
+       JSON mesh entry's own "model" and "smooth_angle" override them. */
+    int use_mesh_model;               /* nonzero: their materials use mesh_model; 0 (default): as read */
+    pnb_phong_model mesh_model;
+    float smooth_angle_degrees;       /* default 30: meshes without normals are smoothed across edges
+                                         whose faces meet at less than this, in [0, 180]; 0 = faceted */
 } pnb_load_options;
 
 typedef enum pnb_build_quality { PNB_BUILD_LOW = 0, PNB_BUILD_MEDIUM = 1, PNB_BUILD_HIGH = 2 } pnb_build_quality;
@@ -233,7 +240,8 @@ PNB_API const char* pnb_renderer_last_error(const pnb_renderer* renderer);
 /* ------------------------------------------------------------ scene */
 
 PNB_API pnb_status pnb_scene_create(pnb_scene** out);
-/* Reads a .json or .obj file (options NULL: defaults, paths restricted to the file's folder). */
+/* Reads a .json, .obj or model file (PLY, STL, glTF, ... through Assimp); options NULL: defaults,
+   paths restricted to the file's folder. */
 PNB_API pnb_status pnb_scene_load(pnb_renderer* renderer, const char* path, const pnb_load_options* options,
                                   pnb_scene** out);
 PNB_API pnb_status pnb_scene_clone(const pnb_scene* scene, pnb_scene** out);

@@ -219,6 +219,27 @@ MtlMaterial phongOf(const aiMaterial& a, const fs::path& file, const Logger& log
     return m;
 }
 
+/// Keeps the vertices that triangles use (positions, normals and UVs alike), in
+/// their order, and renumbers the indices.
+void keepUsedVertices(TriangleMesh& m) {
+    constexpr uint32_t kUnused = UINT32_MAX;
+    std::vector<uint32_t> to(m.positions.size(), kUnused);
+    for (uint32_t i : m.indices) to[i] = 0;
+    uint32_t next = 0;
+    for (uint32_t& t : to)
+        if (t != kUnused) t = next++;
+    auto keep = [&](auto& values) {
+        if (values.size() != to.size()) return;
+        for (size_t v = 0; v < to.size(); ++v)
+            if (to[v] != kUnused) values[to[v]] = values[v];
+        values.resize(next);
+    };
+    keep(m.positions);
+    keep(m.normals);
+    keep(m.uvs);
+    for (uint32_t& i : m.indices) i = to[i];
+}
+
 /// Per-triangle colour from the first vertex-colour set, quantised to 8 bits
 /// so that triangles of one colour share a material.
 std::array<uint8_t, 3> triangleColour(const aiMesh& mesh, const uint32_t* corners) {
@@ -606,8 +627,10 @@ ObjStats appendAssimp(Scene& scene, const InputFile& model, const Transform& wor
             for (unsigned f = 0; f < am.mNumFaces; ++f) {
                 const aiFace& face = am.mFaces[f];
                 if (face.mNumIndices < 3 || !face.mIndices) continue;  // points and lines
+                // Faces on missing or non-finite positions (NaN in the file, or beyond
+                // float range after the node's transform) are dropped, as OBJ's are.
                 if (std::any_of(face.mIndices, face.mIndices + face.mNumIndices,
-                                [&](unsigned i) { return i >= am.mNumVertices; })) {
+                                [&](unsigned i) { return i >= am.mNumVertices || !isFinite(m.positions[i]); })) {
                     ++stats.droppedFaces;
                     continue;
                 }
@@ -646,6 +669,8 @@ ObjStats appendAssimp(Scene& scene, const InputFile& model, const Transform& wor
                 }
             }
             if (m.indices.empty()) continue;
+            if (!std::all_of(m.positions.begin(), m.positions.end(), [](const Vec3f& p) { return isFinite(p); }))
+                keepUsedVertices(m);  // a loaded mesh holds finite positions only
             if (!m.faceMaterials.empty() &&
                 std::all_of(m.faceMaterials.begin(), m.faceMaterials.end(), [&](uint32_t id) { return id == m.material; }))
                 m.faceMaterials.clear();

@@ -356,6 +356,29 @@ TEST(ModelFile, MalformedAsciiStlIsRefusedBeforeAssimpWellFormedLoads) {
     EXPECT_EQ(loadScene(dir / "binary.stl", {}, q.logger).scene.triangleCount(), 1u);
 }
 
+// A NaN coordinate (a fuzz_model finding: a binary STL) drops the faces on it,
+// and the mesh keeps finite positions only.
+TEST(ModelFile, FacesOnNonFinitePositionsAreDroppedWithThem) {
+    const fs::path dir = test::tempDir();
+    std::string stl(80, ' ');
+    stl += std::string("\x02\0\0\0", 4);
+    const float nan = std::nanf("");
+    const float facets[2][12] = {{0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 1, 0, 0, 0, 1, 1, 0, nan, 1, 0}};
+    for (const auto& f : facets) {
+        stl.append(reinterpret_cast<const char*>(f), sizeof f);
+        stl += std::string(2, '\0');
+    }
+    test::writeFile(dir / "nan.stl", stl);
+    Quiet q;
+    LoadedScene s = loadScene(dir / "nan.stl", {}, q.logger);
+    EXPECT_EQ(s.scene.triangleCount(), 1u);
+    for (const TriangleMesh& m : s.scene.meshes) {
+        for (const Vec3f& p : m.positions) EXPECT_TRUE(isFinite(p));
+        EXPECT_TRUE(m.normals.empty() || m.normals.size() == m.positions.size());
+        for (uint32_t i : m.indices) EXPECT_LT(i, m.positions.size());
+    }
+}
+
 // Where two Assimp readers claim an extension (.gltf, .glb) and neither accepts
 // the file, Assimp would try every other format's reader: a PLY header in a
 // .gltf hung the PLY reader. Such a file is refused instead: not JSON, or JSON

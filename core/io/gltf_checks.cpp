@@ -1,6 +1,6 @@
 #include "core/io/gltf_checks.h"
 
-#include <nlohmann/json.hpp>
+#include "core/io/json_document.h"  // nlohmann-json, from its one include point
 
 #include <algorithm>
 #include <cstdint>
@@ -8,8 +8,6 @@
 
 namespace penumbra {
 namespace {
-
-using Json = nlohmann::json;
 
 uint32_t le32(std::string_view b, size_t at) {
     uint32_t v = 0;

@@ -65,10 +65,12 @@ public:
         for (size_t b = 0; b < rays.size(); b += kChunk) {
             const size_t n = std::min(kChunk, rays.size() - b);
             intersectPrimBatch(rays.subspan(b, n), std::span(thin, n));
-            for (size_t i = 0; i < n; ++i)
-                out[b + i] = thin[i] ? std::optional<Hit>(scene_.completeHit(rays[b + i], thin[i]->ref, thin[i]->t,
-                                                                              thin[i]->u, thin[i]->v))
-                                     : std::nullopt;
+            for (size_t i = 0; i < n; ++i) {
+                if (thin[i])
+                    scene_.completeHit(rays[b + i], thin[i]->ref, thin[i]->t, thin[i]->u, thin[i]->v, out[b + i].emplace());
+                else
+                    out[b + i].reset();
+            }
         }
     }
 

@@ -242,7 +242,7 @@ size_t Scene::primitiveCount() const {
     return triangleCount() + spheres.size() + planes.size() + boxes.size() + rectangles.size() + disks.size();
 }
 
-Hit Scene::completeInstanceHit(const PrimRef& ref, float u, float v) const {
+void Scene::completeInstanceHit(const PrimRef& ref, float u, float v, Hit& h) const {
     // The triangle is placed first and completed as a copy of the placed
     // vertices would be (normals as placedCopy transforms them), so an
     // instance hit equals the copy's hit bit for bit given the same (u, v);
@@ -261,26 +261,23 @@ Hit Scene::completeInstanceHit(const PrimRef& ref, float u, float v) const {
     }
     c.n = m.normals.empty() ? nullptr : n;
     c.uv = m.uvs.empty() ? nullptr : uv;
-    Hit h = completeTriangleHit(c, u, v);
+    completeTriangleHit(c, u, v, h);
     h.material = in.material != kNoMaterialOverride ? in.material : m.materialOf(ref.prim);
-    return h;
 }
 
-Hit Scene::completeHit(const Ray& ray, PrimRef ref, float t, float u, float v) const {
+void Scene::completeHit(const Ray& ray, PrimRef ref, float t, float u, float v, Hit& h) const {
     // Each shape completes its own hits beside its intersection test (core/shapes.cpp).
-    Hit h;
     switch (ref.kind) {
-        case ShapeKind::Mesh: h = completeTriangleHit(meshes[ref.object], ref.prim, u, v); break;
-        case ShapeKind::Sphere: h = penumbra::completeHit(spheres[ref.object], ray, t); break;
-        case ShapeKind::Plane: h = penumbra::completeHit(planes[ref.object], ray, t); break;
-        case ShapeKind::Box: h = penumbra::completeHit(boxes[ref.object], ray, t); break;
-        case ShapeKind::Rectangle: h = penumbra::completeHit(rectangles[ref.object], u, v); break;
-        case ShapeKind::Disk: h = penumbra::completeHit(disks[ref.object], u, v); break;
-        case ShapeKind::Instance: h = completeInstanceHit(ref, u, v); break;
+        case ShapeKind::Mesh: completeTriangleHit(meshes[ref.object], ref.prim, u, v, h); break;
+        case ShapeKind::Sphere: penumbra::completeHit(spheres[ref.object], ray, t, h); break;
+        case ShapeKind::Plane: penumbra::completeHit(planes[ref.object], ray, t, h); break;
+        case ShapeKind::Box: penumbra::completeHit(boxes[ref.object], ray, t, h); break;
+        case ShapeKind::Rectangle: penumbra::completeHit(rectangles[ref.object], u, v, h); break;
+        case ShapeKind::Disk: penumbra::completeHit(disks[ref.object], u, v, h); break;
+        case ShapeKind::Instance: completeInstanceHit(ref, u, v, h); break;
     }
     h.t = t;
     h.ref = ref;
-    return h;
 }
 
 }  // namespace penumbra

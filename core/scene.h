@@ -105,7 +105,13 @@ public:
 
     /// Turns an accelerator's thin answer into a full Hit. Both accelerators
     /// call this, so their hits are identical given the same (ref, t, u, v).
-    Hit completeHit(const Ray& ray, PrimRef ref, float t, float u, float v) const;
+    Hit completeHit(const Ray& ray, PrimRef ref, float t, float u, float v) const {
+        Hit h;
+        completeHit(ray, ref, t, u, v, h);
+        return h;
+    }
+    /// The same, written into h in place (every field; the renderer's batches).
+    void completeHit(const Ray& ray, PrimRef ref, float t, float u, float v, Hit& h) const;
 
     /// Triangles as rendered: each instance counts its prototype's triangles.
     size_t triangleCount() const;
@@ -116,7 +122,7 @@ public:
     const Material& material(uint32_t id) const { return materials[id]; }
 
 private:
-    Hit completeInstanceHit(const PrimRef& ref, float u, float v) const;
+    void completeInstanceHit(const PrimRef& ref, float u, float v, Hit& h) const;
 };
 
 }  // namespace penumbra

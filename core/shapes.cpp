@@ -59,8 +59,7 @@ std::optional<PrimHit> intersect(const Sphere& s, const Ray& r) {
     return std::nullopt;
 }
 
-Hit completeHit(const Sphere& s, const Ray& ray, float t) {
-    Hit h;
+void completeHit(const Sphere& s, const Ray& ray, float t, Hit& h) {
     const Vec3f n = normalize(ray.o + t * ray.d - s.center);
     // Re-project onto the surface: the error is then relative to the
     // sphere's own coordinates, not to the distance travelled.
@@ -68,11 +67,9 @@ Hit completeHit(const Sphere& s, const Ray& ray, float t) {
     h.ng = h.ns = n;
     h.uv = {std::atan2(n.z, n.x) * kInv2Pi + 0.5f, std::acos(std::clamp(n.y, -1.f, 1.f)) * kInvPi};
     h.material = s.material;
-    return h;
 }
 
-Hit completeHit(const Plane& pl, const Ray& ray, float t) {
-    Hit h;
+void completeHit(const Plane& pl, const Ray& ray, float t, Hit& h) {
     const Vec3f p = ray.o + t * ray.d;
     h.p = p - dot(p - pl.point, pl.normal) * pl.normal;
     h.ng = h.ns = pl.normal;
@@ -80,7 +77,6 @@ Hit completeHit(const Plane& pl, const Ray& ray, float t) {
     const Vec3f d = h.p - pl.point;
     h.uv = {dot(d, f.s), dot(d, f.t)};
     h.material = pl.material;
-    return h;
 }
 
 std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
@@ -109,8 +105,7 @@ std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
     return std::nullopt;
 }
 
-Hit completeHit(const Box& b, const Ray& ray, float t) {
-    Hit h;
+void completeHit(const Box& b, const Ray& ray, float t, Hit& h) {
     Vec3f po = b.objectFromWorld.applyPoint(ray.o) + t * b.objectFromWorld.applyVector(ray.d);
     // The face is the slab whose plane the point lies closest to (relative to
     // the box size); snap the point onto it.
@@ -132,7 +127,6 @@ Hit completeHit(const Box& b, const Ray& ray, float t) {
     const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
     h.uv = {(po[a1] - b.lo[a1]) / ext[a1], (po[a2] - b.lo[a2]) / ext[a2]};
     h.material = b.material;
-    return h;
 }
 
 std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r) {
@@ -149,13 +143,11 @@ std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r) {
     return PrimHit{*t, s, u};
 }
 
-Hit completeHit(const Rectangle& q, float u, float v) {
-    Hit h;
+void completeHit(const Rectangle& q, float u, float v, Hit& h) {
     h.p = q.p0 + u * q.a + v * q.b;
     h.ng = h.ns = rectangleNormal(q);
     h.uv = {u, v};
     h.material = q.material;
-    return h;
 }
 
 std::optional<PrimHit> intersect(const Disk& k, const Ray& r) {
@@ -168,14 +160,12 @@ std::optional<PrimHit> intersect(const Disk& k, const Ray& r) {
     return PrimHit{*t, dot(d, f.s) / k.radius, dot(d, f.t) / k.radius};
 }
 
-Hit completeHit(const Disk& d, float u, float v) {
-    Hit h;
+void completeHit(const Disk& d, float u, float v, Hit& h) {
     const Frame f = Frame::fromNormal(d.normal);
     h.p = d.center + d.radius * (u * f.s + v * f.t);
     h.ng = h.ns = d.normal;
     h.uv = {0.5f + 0.5f * u, 0.5f + 0.5f * v};
     h.material = d.material;
-    return h;
 }
 
 std::optional<PrimHit> intersectTriangle(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, const Ray& r) {
@@ -218,8 +208,7 @@ std::optional<PrimHit> intersectTriangle(const Vec3f& p0, const Vec3f& p1, const
     return PrimHit{t, e1 * invDet, e2 * invDet};
 }
 
-Hit completeTriangleHit(const TriangleCorners& c, float u, float v) {
-    Hit h;
+void completeTriangleHit(const TriangleCorners& c, float u, float v, Hit& h) {
     const float w = 1.f - u - v;
     h.p = w * c.p[0] + u * c.p[1] + v * c.p[2];
     h.ng = normalize(cross(c.p[1] - c.p[0], c.p[2] - c.p[0]));
@@ -233,10 +222,9 @@ Hit completeTriangleHit(const TriangleCorners& c, float u, float v) {
     } else {
         h.uv = {u, v};
     }
-    return h;
 }
 
-Hit completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v) {
+void completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v, Hit& h) {
     const uint32_t* idx = &m.indices[3 * size_t(tri)];
     TriangleCorners c;
     Vec3f n[3];
@@ -248,9 +236,8 @@ Hit completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v) {
     }
     c.n = m.normals.empty() ? nullptr : n;
     c.uv = m.uvs.empty() ? nullptr : uv;
-    Hit h = completeTriangleHit(c, u, v);
+    completeTriangleHit(c, u, v, h);
     h.material = m.materialOf(tri);
-    return h;
 }
 
 Bounds3f bounds(const Sphere& s) {

@@ -84,15 +84,18 @@ std::optional<PrimHit> intersect(const Box& b, const Ray& r);
 std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r);
 std::optional<PrimHit> intersect(const Disk& d, const Ray& r);
 
-/// Hit completion, beside each intersection test: the surface data (point,
-/// normals, uv, material) of a hit at distance t with the test's (u, v).
-/// Points come from the surface's own parametrisation (see core/ray.h), not
-/// from o + t d. Scene::completeHit dispatches to these and sets t and ref.
-Hit completeHit(const Sphere& s, const Ray& r, float t);
-Hit completeHit(const Plane& p, const Ray& r, float t);
-Hit completeHit(const Box& b, const Ray& r, float t);
-Hit completeHit(const Rectangle& q, float u, float v);
-Hit completeHit(const Disk& d, float u, float v);
+/// Hit completion, beside each intersection test: writes the surface data
+/// (point, normals, uv, material) of a hit at distance t with the test's
+/// (u, v) into h, every one of those fields, in place (a Hit returned by
+/// value and copied on is read back before its stores have retired, which
+/// stalls the renderer's hot loop). Points come from the surface's own
+/// parametrisation (see core/ray.h), not from o + t d. Scene::completeHit
+/// dispatches to these and sets t and ref.
+void completeHit(const Sphere& s, const Ray& r, float t, Hit& h);
+void completeHit(const Plane& p, const Ray& r, float t, Hit& h);
+void completeHit(const Box& b, const Ray& r, float t, Hit& h);
+void completeHit(const Rectangle& q, float u, float v, Hit& h);
+void completeHit(const Disk& d, float u, float v, Hit& h);
 /// One triangle's corners: positions, and (optional, else null) 3 vertex normals and 3 UVs.
 struct TriangleCorners {
     Vec3f p[3];
@@ -100,11 +103,11 @@ struct TriangleCorners {
     const Vec2f* uv = nullptr;
 };
 /// The hit at barycentrics (1-u-v, u, v) of a triangle given by its corners
-/// (what the mesh version computes; material left 0).
-Hit completeTriangleHit(const TriangleCorners& corners, float u, float v);
+/// (what the mesh version computes; the material is left as it was).
+void completeTriangleHit(const TriangleCorners& corners, float u, float v, Hit& h);
 /// Triangle `tri` of a mesh at barycentrics (u, v): interpolated point, smooth
-/// normal (when the mesh has normals) and uv.
-Hit completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v);
+/// normal (when the mesh has normals), uv and material.
+void completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v, Hit& h);
 
 /// Watertight ray/triangle test (Woop, Benthin & Wald 2013): rays through a
 /// shared edge or vertex hit at least one of the triangles sharing it.

@@ -48,8 +48,7 @@ Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLengt
     return m.kd * textures_->lookup(m.textureIndex, hit.uv, footprint);
 }
 
-ShadingPoint Integrator::shadingPoint(const Hit& hit, const Ray& ray, float pathLength) const {
-    ShadingPoint sp;
+void Integrator::shade(const Hit& hit, const Ray& ray, float pathLength, ShadingPoint& sp) const {
     sp.material = &scene_.material(hit.material);
     sp.p = hit.p;
     sp.wo = -ray.d;
@@ -58,7 +57,6 @@ ShadingPoint Integrator::shadingPoint(const Hit& hit, const Ray& ray, float path
     sp.ng = front ? hit.ng : -hit.ng;
     sp.ns = front ? hit.ns : -hit.ns;
     sp.kd = diffuseAlbedo(*sp.material, hit, pathLength, sp.wo);
-    return sp;
 }
 
 /// A ray one lane still has to trace (the transmitted branch of a dielectric).
@@ -71,7 +69,7 @@ struct PendingRay {
 
 struct PathLane {
     Ray ray;
-    std::optional<Hit> hit;
+    const Hit* hit = nullptr;          // the ray's closest hit (in the batch's hit arrays); null: it escaped
     ShadingPoint sp;
     Rgb L;
     Rgb throughput{1.f};
@@ -359,13 +357,15 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
     uint8_t active[kMaxBatch];
     for (size_t i = 0; i < n; ++i) {
         lanes[i].ray = cameraRays[i];
-        lanes[i].hit = hits[i];
+        lanes[i].hit = hits[i] ? &*hits[i] : nullptr;
         lanes[i].key = keys[i];
         active[i] = 1;
         if (!firstHits.empty()) firstHits[i] = FirstHit{};
     }
     counts.camera += n;
     const std::span<PathLane> batch(lanes, n);
+    // The hits of each bounce; a lane's hit is read before the next bounce's overwrite it.
+    std::optional<Hit> nextHits[kMaxBatch];
     for (bool first = true;; first = false) {
         // Emission, ambient and the shading point of every lane still going.
         for (size_t i = 0; i < n; ++i) {
@@ -379,7 +379,7 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
             }
             const Hit& hit = *lane.hit;
             lane.pathLength += hit.t;
-            lane.sp = shadingPoint(hit, lane.ray, lane.pathLength);
+            shade(hit, lane.ray, lane.pathLength, lane.sp);
             const Material& m = *lane.sp.material;
             // Emission is one-sided: only the side the geometric normal faces emits.
             if (m.isEmissive() && (dot(lane.sp.wo, hit.ng) > 0.f || m.twoSidedEmission)) lane.L += lane.throughput * m.ke;
@@ -401,9 +401,8 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
             nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;
-        std::optional<Hit> nextHits[kMaxBatch];
         accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(nextHits, nNext));
-        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c];
+        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c] ? &*nextHits[c] : nullptr;
     }
     for (size_t i = 0; i < n; ++i) {
         counts.pathLengthSum += uint64_t(lanes[i].longest);

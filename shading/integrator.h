@@ -108,12 +108,12 @@ public:
     /// Radiance along one camera ray (a batch of one; for tests and tools).
     Rgb Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts, FirstHit* firstHit) const;
 
-    /// The shading point of a hit reached along `ray` after pathLength (both
-    /// integrators build it this one way: two-sided normals, textured kd).
-    ShadingPoint shade(const Hit& hit, const Ray& ray, float pathLength) const { return shadingPoint(hit, ray, pathLength); }
+    /// Writes into sp the shading point of a hit reached along `ray` after
+    /// pathLength (both integrators build it this one way: two-sided normals,
+    /// textured kd), in place: a lane's shading point is read right after.
+    void shade(const Hit& hit, const Ray& ray, float pathLength, ShadingPoint& sp) const;
 
 private:
-    ShadingPoint shadingPoint(const Hit& hit, const Ray& ray, float pathLength) const;
     /// Adds each lane's direct light (times its throughput) to its radiance.
     void addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth, RayCounts& counts) const;
     /// addDirectLight for lanes at different bounce depths (dielectrics split lanes).

@@ -13,7 +13,7 @@ namespace penumbra {
 
 struct PathVertexLane {
     Ray ray;
-    std::optional<Hit> hit;
+    const Hit* hit = nullptr;  // the ray's closest hit (in the batch's hit arrays); null: it escaped
     ShadingPoint sp;
     Rgb L;
     Rgb throughput{1.f};
@@ -256,13 +256,15 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
     uint8_t active[kMaxBatch];
     for (size_t i = 0; i < n; ++i) {
         lanes[i].ray = cameraRays[i];
-        lanes[i].hit = hits[i];
+        lanes[i].hit = hits[i] ? &*hits[i] : nullptr;
         lanes[i].key = keys[i];
         active[i] = 1;
         if (!firstHits.empty()) firstHits[i] = FirstHit{};
     }
     counts.camera += n;
     const std::span<PathVertexLane> batch(lanes, n);
+    // The hits of each bounce; a lane's hit is read before the next bounce's overwrite it.
+    std::optional<Hit> nextHits[kMaxBatch];
     for (int depth = 0;; ++depth) {
         // Emission (MIS-weighted after a non-specular bounce) and the vertex of every lane still going.
         for (size_t i = 0; i < n; ++i) {
@@ -275,7 +277,7 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
             }
             const Hit& hit = *lane.hit;
             lane.pathLength += hit.t;
-            lane.sp = surfaces_.shade(hit, lane.ray, lane.pathLength);
+            surfaces_.shade(hit, lane.ray, lane.pathLength, lane.sp);
             const Material& m = *lane.sp.material;
             if (m.isEmissive() && (dot(lane.sp.wo, hit.ng) > 0.f || m.twoSidedEmission)) {
                 const float w = lane.specular ? 1.f : emitterHitWeight(lane.prevP, lane.bsdfPdf, hit);
@@ -317,9 +319,8 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
             nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;
-        std::optional<Hit> nextHits[kMaxBatch];
         accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(nextHits, nNext));
-        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c];
+        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c] ? &*nextHits[c] : nullptr;
     }
     for (size_t i = 0; i < n; ++i) {
         counts.pathLengthSum += uint64_t(lanes[i].rays);

@@ -60,7 +60,7 @@ public:
     }
     /// intersectPrimBatch followed by Scene::completeHit.
     void intersectBatch(std::span<const Ray> rays, std::span<std::optional<Hit>> out) const {
-        constexpr size_t kChunk = 64;
+        constexpr size_t kChunk = 16;  // one packet: the renderer's batches are 16 rays
         std::optional<PrimIntersection> thin[kChunk];
         for (size_t b = 0; b < rays.size(); b += kChunk) {
             const size_t n = std::min(kChunk, rays.size() - b);

@@ -25,7 +25,7 @@ MjGrid mjGrid(uint32_t n) {
     return {cols, rows};
 }
 
-MultiJitterSet::MultiJitterSet(uint32_t n, uint32_t p) : n_(n), pattern_(p) {
+MultiJitterSet::MultiJitterSet(uint32_t n, uint32_t p, bool tabulate) : n_(n), pattern_(p) {
     const MjGrid g = mjGrid(n);
     m_ = g.cols;
     k_ = g.rows;
@@ -37,6 +37,11 @@ MultiJitterSet::MultiJitterSet(uint32_t n, uint32_t p) : n_(n), pattern_(p) {
     // property while only needing permutations of length m and k.
     cols_ = IndexPermutation(m_, p * 0xa511e9b3U);
     rows_ = IndexPermutation(k_, p * 0x63d83595U);
+    if (tabulate && m_ <= kMaxTable && k_ <= kMaxTable) {
+        for (uint32_t c = 0; c < m_; ++c) colTable_[c] = static_cast<uint8_t>(cols_(c));
+        for (uint32_t r = 0; r < k_; ++r) rowTable_[r] = static_cast<uint8_t>(rows_(r));
+        tabulated_ = true;
+    }
 }
 
 uint64_t pixelSampleKey(uint64_t seed, uint64_t pixel) { return hashValues({seed, pixel, 0x5eedULL}); }

@@ -64,23 +64,31 @@ MjGrid mjGrid(uint32_t n);
 /// pixel, per shading point and light); sample(s) is then cheap.
 class MultiJitterSet {
 public:
-    MultiJitterSet(uint32_t n, uint32_t pattern);
+    /// tabulate: write the column and row permutations out as tables (m + k
+    /// evaluations, for grids of at most kMaxTable columns and rows), for a
+    /// set that will draw many samples: a permutation's cycle-walking loop
+    /// takes a data-dependent number of rounds, a mispredicted branch on
+    /// most samples, where a table lookup takes none. Same samples either way.
+    MultiJitterSet(uint32_t n, uint32_t pattern, bool tabulate = false);
     /// Sample s (0 <= s < n) in [0,1)^2.
     Vec2f sample(uint32_t s) const;
     uint32_t size() const { return n_; }
+    static constexpr uint32_t kMaxTable = 64;  // up to 4096 samples
 
 private:
     uint32_t n_, m_, k_, pattern_;
     float invM_, invK_;
     IndexPermutation cells_;  // chooses which n of the m*k cells are used (n not m*k)
     IndexPermutation cols_, rows_;
+    bool tabulated_ = false;
+    uint8_t colTable_[kMaxTable], rowTable_[kMaxTable];  // cols_(c), rows_(r) when tabulated_
 };
 
 inline Vec2f MultiJitterSet::sample(uint32_t s) const {
     if (m_ * k_ != n_) s = cells_(s);
     const uint32_t col = s % m_, row = s / m_;
-    const uint32_t sx = cols_(col);
-    const uint32_t sy = rows_(row);
+    const uint32_t sx = tabulated_ ? colTable_[col] : cols_(col);
+    const uint32_t sy = tabulated_ ? rowTable_[row] : rows_(row);
     const float jx = detail::jitter(s, pattern_ * 0xa399d265U);
     const float jy = detail::jitter(s, pattern_ * 0x711ad6a5U);
     Vec2f r{(static_cast<float>(col) + (static_cast<float>(sy) + jx) * invK_) * invM_,

@@ -176,6 +176,29 @@ std::optional<LightSample> ShapeAreaLight::sampleArea(const Vec3f& p, Vec2f u) c
     return areaLightSample(p, s, Le_, twoSided_);
 }
 
+bool ShapeAreaLight::mayReach(const Vec3f& p, const Vec3f& n) const {
+    if (!emitsTowards(p)) return false;
+    // The highest point of the shape over the plane (p, n): the shapes are
+    // convex, so a sample above the plane exists only if that point is above it.
+    switch (kind_) {
+        case Kind::Rectangle: {
+            const Rectangle& q = scene_.rectangles[index_];
+            const float h = dot(q.p0 - p, n), ha = dot(q.a, n), hb = dot(q.b, n);
+            return h + std::max(ha, 0.f) + std::max(hb, 0.f) > 0.f;
+        }
+        case Kind::Disk: {
+            const Disk& d = scene_.disks[index_];
+            const float c = dot(n, d.normal);
+            return dot(d.center - p, n) + d.radius * std::sqrt(std::max(0.f, 1.f - c * c)) > 0.f;
+        }
+        case Kind::Sphere: {
+            const Sphere& s = scene_.spheres[index_];
+            return dot(s.center - p, n) + s.radius > 0.f;
+        }
+    }
+    return true;
+}
+
 Rgb ShapeAreaLight::power() const { return Le_ * (area_ * kPi * (twoSided_ ? 2.f : 1.f)); }
 
 MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles) {
@@ -320,6 +343,10 @@ std::optional<LightSample> MeshAreaLight::sampleArea(const Vec3f& p, Vec2f u) co
     const Vec2f b = squareToTriangle(u);
     const SurfaceSample s{t.p0 + b.x * t.e1 + b.y * t.e2, t.n, 1.f / totalArea_};
     return areaLightSample(p, s, Le_, twoSided_);
+}
+
+bool MeshAreaLight::mayReach(const Vec3f& p, const Vec3f& n) const {
+    return dot(boundCenter_ - p, n) + std::sqrt(boundRadius2_) > 0.f;
 }
 
 Rgb MeshAreaLight::power() const { return Le_ * (totalArea_ * kPi * (twoSided_ ? 2.f : 1.f)); }

@@ -50,6 +50,7 @@ public:
     void sampleMany(const Vec3f& p, std::span<const Vec2f> u, std::span<std::optional<LightSample>> out) const override;
     float pdf(const Vec3f& p, const Hit& onLight) const override;
     std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
+    bool mayReach(const Vec3f& p, const Vec3f& n) const override;
     Rgb power() const override;
     float area() const { return area_; }
 
@@ -89,6 +90,7 @@ public:
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     float pdf(const Vec3f& p, const Hit& onLight) const override;
     std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
+    bool mayReach(const Vec3f& p, const Vec3f& n) const override;
     Rgb power() const override;
     float area() const { return totalArea_; }
     size_t triangleCount() const { return triangles_.size(); }

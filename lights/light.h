@@ -42,6 +42,17 @@ public:
     /// The estimator before solid-angle sampling: points uniform in area
     /// (--direct-light area, for comparisons). Same as sample() unless overridden.
     virtual std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const { return sample(p, u); }
+    /// False only where no sample from p can count: where every point of the
+    /// light lies on or below the plane through p with normal n (the
+    /// integrators discard samples with wi . n <= 0) or where the light sends
+    /// nothing towards p. A cheap bound, taken before sampling, so that
+    /// shading points facing away from a light do not pay for its samples;
+    /// true where a light cannot tell.
+    virtual bool mayReach(const Vec3f& p, const Vec3f& n) const {
+        (void)p;
+        (void)n;
+        return true;
+    }
     /// Total emitted power (for power-proportional light selection).
     virtual Rgb power() const = 0;
     virtual bool isDelta() const { return false; }

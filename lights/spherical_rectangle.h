@@ -12,15 +12,15 @@ class SphericalRectangle {
 public:
     SphericalRectangle(const Vec3f& o, const Vec3f& s, const Vec3f& ex, const Vec3f& ey);
     /// Subtended solid angle; 0 when o lies in the rectangle's plane.
-    float solidAngle() const { return float(S_); }
+    float solidAngle() const { return S_; }
     /// The point of the rectangle in the direction sampled by u in [0,1)^2
     /// (uniform in solid angle, pdf 1 / solidAngle()).
     Vec3f sample(Vec2f u) const;
 
 private:
     Vec3f o_, x_, y_, z_;
-    double z0_ = 0, x0_ = 0, y0_ = 0, x1_ = 0, y1_ = 0;
-    double b0_ = 0, b1_ = 0, cosK_ = 1, sinK_ = 0, S_ = 0;
+    float z0_ = 0, x0_ = 0, y0_ = 0, x1_ = 0, y1_ = 0;
+    float b0_ = 0, b1_ = 0, cosK_ = 1, sinK_ = 0, S_ = 0;
 };
 
 }  // namespace penumbra

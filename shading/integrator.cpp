@@ -1,5 +1,6 @@
 #include "shading/integrator.h"
 
+#include "core/scratch_array.h"
 #include "core/texture_cache.h"
 #include "lights/environment_light.h"
 #include "shading/dielectric.h"
@@ -116,7 +117,7 @@ public:
 
     void flush() {
         if (pending_ == 0) return;
-        accel_.occludedBatch(std::span<const Ray>(rays_, pending_), std::span<uint8_t>(blocked_, pending_));
+        accel_.occludedBatch(std::span<const Ray>(rays_.data(), pending_), std::span<uint8_t>(blocked_, pending_));
         counts_.shadow += pending_;
         for (uint32_t i = 0; i < pending_; ++i)
             if (!blocked_[i]) sums_[lanes_[i]] += weights_[i];
@@ -129,8 +130,8 @@ private:
     RayCounts& counts_;
     Rgb* sums_;
     float nLight_, nBrdf_;
-    Ray rays_[kPacket];
-    Rgb weights_[kPacket];
+    ScratchArray<Ray, kPacket> rays_;
+    ScratchArray<Rgb, kPacket> weights_;
     uint8_t lanes_[kPacket];
     uint8_t blocked_[kPacket];
     uint32_t pending_ = 0;
@@ -162,7 +163,7 @@ public:
 
     void flush() {
         if (pending_ == 0) return;
-        accel_.intersectBatch(std::span<const Ray>(rays_, pending_), std::span<std::optional<Hit>>(hits_, pending_));
+        accel_.intersectBatch(std::span<const Ray>(rays_.data(), pending_), std::span<std::optional<Hit>>(hits_, pending_));
         counts_.shadow += pending_;
         const EnvironmentLight* env = lights_.environment();
         for (uint32_t i = 0; i < pending_; ++i) {
@@ -195,10 +196,10 @@ private:
     RayCounts& counts_;
     Rgb* sums_;
     float nLight_, nBrdf_;
-    Ray rays_[kPacket];
+    ScratchArray<Ray, kPacket> rays_;
     std::optional<Hit> hits_[kPacket];
-    Vec3f origins_[kPacket];
-    Rgb weights_[kPacket];
+    ScratchArray<Vec3f, kPacket> origins_;
+    ScratchArray<Rgb, kPacket> weights_;
     float pdfs_[kPacket];
     uint8_t lanes_[kPacket];
     uint32_t pending_ = 0;
@@ -252,14 +253,15 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
     const uint32_t n = static_cast<uint32_t>(settings_.lightSamples);
     const float invN = 1.f / float(n);
     const uint32_t dimBase = kFirstLightDimension + uint32_t(depth) * uint32_t(nLights + 2);
-    Rgb acc[kMaxBatch], sum[kMaxBatch];
+    ScratchArray<Rgb, kMaxBatch> acc, sum;  // written for the lit lanes only
+    for (size_t q = 0; q < nLit; ++q) sum[lit[q]] = Rgb{};
     // BRDF samples under MIS: half as many as light samples (at least one).
     // A BRDF sample costs about twice a light sample (a closest-hit ray, the
     // lobe's sampling and the light's pdf); where the lobe is sharp, half as
     // many still carry the highlight, and the power heuristic weighs each
     // strategy by its count.
     const uint32_t nBrdf = (n + 1) / 2;
-    ShadowQueue queue(accel_, counts, acc, float(n), float(nBrdf));
+    ShadowQueue queue(accel_, counts, acc.data(), float(n), float(nBrdf));
 
     // Sample k of lane q's n in dimension dim: point index * n + k of the
     // pixel's sequence (dimensionSequence), stratified per shading point and
@@ -281,6 +283,7 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
             }
             for (size_t q = 0; q < nLit; ++q) {
                 const PathLane& lane = lanes[lit[q]];
+                if (!light.mayReach(lane.sp.p, lane.sp.ng)) continue;  // every sample would be discarded
                 const OwenSobol2D seq = dimensionSequence(lane.key, dim);
                 if (area) {
                     for (uint32_t k = 0; k < n; ++k)
@@ -318,7 +321,7 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
             for (uint32_t k = 0; k < n; ++k) {
                 const uint32_t index = lane.key.index * n + k;
                 const LightSet::Pick pick = lights_.pickByPower(pickSeq.point(index).x);
-                if (!(pick.probability > 0.f)) continue;
+                if (!(pick.probability > 0.f) || !lights_[pick.index].mayReach(lane.sp.p, lane.sp.ng)) continue;
                 if (auto ls = sampleLight(lights_[pick.index], lane.sp.p, seq.point(index)))
                     queue.add(lit[q], lane.sp, *ls, 1.f / pick.probability, ls->pdf * pick.probability, mis[lit[q]]);
             }

@@ -161,6 +161,7 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
                     if (auto ls = light.sample(v.sp.p, Vec2f{0.5f, 0.5f})) addSample(lit[q], *ls, 1.f, 1.f);
                     continue;
                 }
+                if (!light.mayReach(v.sp.p, v.sp.ng)) continue;  // every sample would be discarded
                 const OwenSobol2D seq = dimensionSequence(v.key, dims.light(j));
                 if (n == 1) {  // no set-up to share: skip the chunk arrays
                     if (auto ls = light.sample(v.sp.p, seq.point(v.key.index))) addSample(lit[q], *ls, 1.f, 1.f);
@@ -188,7 +189,7 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
             for (uint32_t k = 0; k < n; ++k) {
                 const uint32_t index = v.key.index * n + k;
                 const LightSet::Pick pick = lights_.pickByPower(pickSeq.point(index).x);
-                if (!(pick.probability > 0.f)) continue;
+                if (!(pick.probability > 0.f) || !lights_[pick.index].mayReach(v.sp.p, v.sp.ng)) continue;
                 if (auto ls = lights_[pick.index].sample(v.sp.p, seq.point(index))) addSample(lit[q], *ls, pick.probability, invN);
             }
         }

@@ -120,12 +120,16 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
     uint64_t pixelKey[kMax];
     size_t filmIndex[kMax];
     std::optional<MultiJitterSet> pixelSet[kMax], lensSet[kMax];
+    // Tabulate the sets' permutations where the pass draws enough of their
+    // samples to repay it (two permutation evaluations per sample saved).
+    const MjGrid grid = mjGrid(spp);
+    const bool tabulate = 2 * uint64_t(c.sampleCount) > uint64_t(grid.cols) + grid.rows;
     for (size_t i = 0; i < count; ++i) {
         const int x = b.x0 + int(i) % bw, y = b.y0 + int(i) / bw;
         pixelKey[i] = pixelSampleKey(c.settings.seed, uint64_t(y) * uint64_t(c.settings.width) + uint64_t(x));
         filmIndex[i] = c.film.index(x, y);
-        pixelSet[i].emplace(spp, setPattern(pixelKey[i], 0, kPixelDimension));
-        if (c.useLens) lensSet[i].emplace(spp, setPattern(pixelKey[i], 0, kLensDimension));
+        pixelSet[i].emplace(spp, setPattern(pixelKey[i], 0, kPixelDimension), tabulate);
+        if (c.useLens) lensSet[i].emplace(spp, setPattern(pixelKey[i], 0, kLensDimension), tabulate);
     }
     Ray rays[kMax];
     std::optional<Hit> hits[kMax];

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <vector>
 
 #include "core/multi_jitter.h"
 #include "lights/area_light.h"
@@ -150,4 +152,44 @@ TEST(DeltaLights, PointLightFallsOffWithInverseSquare) {
     EXPECT_EQ(ds->wi, (Vec3f{0, 1, 0}));
     EXPECT_TRUE(std::isinf(ds->distance));
     EXPECT_EQ(ds->L.g, 3.f);
+}
+
+// Light::mayReach is a bound taken before sampling: where it says no, every
+// sample from p is discarded by the integrators (wi . n <= 0, or none at all);
+// where a sample would count, it must say yes.
+TEST(AreaLights, MayReachIsFalseOnlyWhereEverySampleIsDiscarded) {
+    Scene s = sceneWithEmitter(false);
+    s.rectangles.push_back(Rectangle{Vec3f{-0.5f, 1.f, -0.5f}, Vec3f{1, 0, 0}, Vec3f{0, 0, 1}, 0});  // faces -y
+    s.rectangles.push_back(Rectangle{Vec3f{0.2f, 0.3f, -0.4f}, Vec3f{0.8f, 0, 0}, Vec3f{0.3f, 0.6f, 0.2f}, 0});
+    s.disks.push_back(Disk{Vec3f{0.3f, 1.2f, 0.1f}, normalize(Vec3f{0.2f, -1.f, 0.3f}), 0.7f, 0});
+    s.spheres.push_back(Sphere{Vec3f{-0.4f, 0.9f, 0.5f}, 0.6f, 0});
+    std::vector<std::unique_ptr<Light>> lights;
+    lights.push_back(std::make_unique<ShapeAreaLight>(s, ShapeAreaLight::Kind::Rectangle, 0));
+    lights.push_back(std::make_unique<ShapeAreaLight>(s, ShapeAreaLight::Kind::Rectangle, 1));
+    lights.push_back(std::make_unique<ShapeAreaLight>(s, ShapeAreaLight::Kind::Disk, 0));
+    lights.push_back(std::make_unique<ShapeAreaLight>(s, ShapeAreaLight::Kind::Sphere, 0));
+    size_t said[2] = {0, 0};
+    for (uint32_t i = 0; i < 400; ++i) {
+        // Points around the lights, normals in every direction.
+        const Vec2f a = multiJitter2D(i, 400, 3), b = multiJitter2D(i, 400, 4);
+        const Vec3f p{3.f * a.x - 1.5f, 2.5f * b.x - 0.5f, 3.f * a.y - 1.5f};
+        const float z = 2.f * b.y - 1.f, phi = 2.f * kPi * a.x * 7.f;
+        const float r = std::sqrt(std::max(0.f, 1.f - z * z));
+        const Vec3f n{r * std::cos(phi), z, r * std::sin(phi)};
+        for (size_t l = 0; l < lights.size(); ++l) {
+            const bool may = lights[l]->mayReach(p, n);
+            ++said[may ? 1 : 0];
+            bool counts = false;
+            for (uint32_t k = 0; k < 256 && !counts; ++k) {
+                const auto ls = lights[l]->sample(p, multiJitter2D(k, 256, 11 + uint32_t(l)));
+                counts = ls && dot(ls->wi, n) > 0.f;
+            }
+            if (counts) {
+                EXPECT_TRUE(may) << "light " << l << " point " << i;
+            }
+        }
+    }
+    // Both answers occur, so the test exercises the bound both ways.
+    EXPECT_GT(said[0], 100u);
+    EXPECT_GT(said[1], 100u);
 }

@@ -126,3 +126,16 @@ TEST(OwenSobol, StratifiedEstimatesBeatIndependentOnes) {
     }
     EXPECT_LT(errSeq, 0.25 * errRandom) << errSeq << " vs " << errRandom;
 }
+
+TEST(OwenSobol, ReverseBitsReversesEveryBit) {
+    for (uint32_t k = 0; k < 32; ++k) EXPECT_EQ(detail::reverseBits(1u << k), 1u << (31 - k));
+    uint64_t state = 1;
+    for (int i = 0; i < 10000; ++i) {
+        state = mix64(state + 0x9e3779b97f4a7c15ULL);
+        const uint32_t x = static_cast<uint32_t>(state);
+        uint32_t naive = 0;
+        for (uint32_t k = 0; k < 32; ++k) naive |= ((x >> k) & 1u) << (31 - k);
+        ASSERT_EQ(detail::reverseBits(x), naive) << x;
+        ASSERT_EQ(detail::reverseBits(detail::reverseBits(x)), x);
+    }
+}

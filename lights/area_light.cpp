@@ -127,6 +127,38 @@ std::optional<LightSample> ShapeAreaLight::sample(const Vec3f& p, Vec2f u) const
     return sampleArea(p, u);
 }
 
+void ShapeAreaLight::sampleEach(std::span<const Vec3f> p, std::span<const Vec2f> u,
+                                std::span<std::optional<LightSample>> out) const {
+    if (kind_ != Kind::Rectangle) {
+        Light::sampleEach(p, u, out);
+        return;
+    }
+    // What sample() gives at each point, in two passes: the points near enough
+    // for a spherical rectangle one by one (each has its own set-up), then the
+    // others by area in a loop without calls, where the square root and the
+    // two divisions of one point overlap with those of the next.
+    const Rectangle& q = scene_.rectangles[index_];
+    constexpr size_t kChunk = 64;
+    for (size_t b = 0; b < p.size(); b += kChunk) {
+        const size_t n = std::min(kChunk, p.size() - b);
+        uint8_t byArea[kChunk];
+        for (size_t k = b; k < b + n; ++k) {
+            byArea[k - b] = 1;
+            if (!emitsTowards(p[k]) || !orthogonalEdges_ ||
+                !subtendsAtLeast(boundCenter_, boundRadius2_, p[k], kSolidAngleSamplingMinBound))
+                continue;
+            const SphericalRectangle sr(p[k], q.p0, q.a, q.b);
+            if (sr.solidAngle() < kSphericalMinSolidAngle) continue;
+            out[k] = solidAngleSample(p[k], sr.sample(u[k]), sr.solidAngle(), Le_);
+            byArea[k - b] = 0;
+        }
+        for (size_t k = b; k < b + n; ++k)
+            if (byArea[k - b])
+                out[k] = areaLightSample(p[k], SurfaceSample{q.p0 + u[k].x * q.a + u[k].y * q.b, frame_.n, pdfArea_}, Le_,
+                                         twoSided_);
+    }
+}
+
 void ShapeAreaLight::sampleMany(const Vec3f& p, std::span<const Vec2f> u,
                                 std::span<std::optional<LightSample>> out) const {
     if (kind_ == Kind::Rectangle && u.size() > 1 && emitsTowards(p) && orthogonalEdges_ &&

@@ -48,6 +48,8 @@ public:
     ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index);
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     void sampleMany(const Vec3f& p, std::span<const Vec2f> u, std::span<std::optional<LightSample>> out) const override;
+    void sampleEach(std::span<const Vec3f> p, std::span<const Vec2f> u,
+                    std::span<std::optional<LightSample>> out) const override;
     float pdf(const Vec3f& p, const Hit& onLight) const override;
     std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
     bool mayReach(const Vec3f& p, const Vec3f& n) const override;

@@ -39,6 +39,14 @@ public:
     virtual void sampleMany(const Vec3f& p, std::span<const Vec2f> u, std::span<std::optional<LightSample>> out) const {
         for (size_t k = 0; k < u.size(); ++k) out[k] = sample(p, u[k]);
     }
+    /// out[k] = sample(p[k], u[k]) for every k: one sample at each of many
+    /// shading points (the lanes of a batch). Lights whose sample is a short
+    /// chain of square roots and divisions take them in one loop, so that the
+    /// chains of different points overlap.
+    virtual void sampleEach(std::span<const Vec3f> p, std::span<const Vec2f> u,
+                            std::span<std::optional<LightSample>> out) const {
+        for (size_t k = 0; k < p.size(); ++k) out[k] = sample(p[k], u[k]);
+    }
     /// The estimator before solid-angle sampling: points uniform in area
     /// (--direct-light area, for comparisons). Same as sample() unless overridden.
     virtual std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const { return sample(p, u); }

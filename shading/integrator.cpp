@@ -281,6 +281,30 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                 for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]];
                 continue;
             }
+            if (n == 1 && !area) {
+                // One sample per lane: the lanes' samples in one call (Light::sampleEach), so
+                // that their square roots and divisions overlap instead of queueing one lane
+                // after another; queued in lane order, as below.
+                Vec3f points[kMaxBatch];
+                Vec2f us[kMaxBatch];
+                uint8_t who[kMaxBatch];
+                size_t m = 0;
+                for (size_t q = 0; q < nLit; ++q) {
+                    const PathLane& lane = lanes[lit[q]];
+                    if (!light.mayReach(lane.sp.p, lane.sp.ng)) continue;  // every sample would be discarded
+                    points[m] = lane.sp.p;
+                    us[m] = dimensionSequence(lane.key, dim).point(lane.key.index);
+                    who[m++] = lit[q];
+                }
+                ScratchArray<std::optional<LightSample>, kMaxBatch> ls;
+                light.sampleEach(std::span<const Vec3f>(points, m), std::span<const Vec2f>(us, m),
+                                 std::span<std::optional<LightSample>>(ls.data(), m));
+                for (size_t c = 0; c < m; ++c)
+                    if (ls[c]) queue.add(who[c], lanes[who[c]].sp, *ls[c], 1.f, ls[c]->pdf, mis[who[c]]);
+                queue.flush();
+                for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]] * invN;
+                continue;
+            }
             for (size_t q = 0; q < nLit; ++q) {
                 const PathLane& lane = lanes[lit[q]];
                 if (!light.mayReach(lane.sp.p, lane.sp.ng)) continue;  // every sample would be discarded
@@ -289,11 +313,6 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                     for (uint32_t k = 0; k < n; ++k)
                         if (auto ls = light.sampleArea(lane.sp.p, seq.point(lane.key.index * n + k)))
                             queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, false);
-                    continue;
-                }
-                if (n == 1) {  // no set-up to share: skip the chunk arrays
-                    if (auto ls = light.sample(lane.sp.p, seq.point(lane.key.index)))
-                        queue.add(lit[q], lane.sp, *ls, 1.f, ls->pdf, mis[lit[q]]);
                     continue;
                 }
                 // In chunks, so that a light's per-shading-point set-up is shared.

@@ -35,17 +35,6 @@ float areaPdfToSolidAngle(const Vec3f& p, const Vec3f& point, const Vec3f& n, fl
     return std::isfinite(pdf) ? pdf : 0.f;
 }
 
-bool subtendsAtLeast(const Vec3f& c, float r2, const Vec3f& p, float omega) {
-    const float d2 = lengthSquared(c - p);
-    if (!(d2 > r2)) return true;
-    // The cap 2 pi (1 - cos theta), sin^2 theta = r^2 / d^2, grows with
-    // sin^2 theta (outside the sphere theta < 90 degrees, so the cap is at
-    // most 2 pi): compare r^2 with the sin^2 of omega's cap times d^2, no
-    // square root or division.
-    const float cosOmega = 1.f - omega * kInv2Pi;
-    if (!(cosOmega > 0.f)) return false;
-    return r2 >= (1.f - cosOmega * cosOmega) * d2;
-}
 
 namespace {
 
@@ -83,6 +72,9 @@ ShapeAreaLight::ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index) : 
         orthogonalEdges_ = std::fabs(dot(q.a, q.b)) <= 1e-5f * length(q.a) * length(q.b);
         boundCenter_ = q.p0 + 0.5f * (q.a + q.b);
         boundRadius2_ = 0.25f * std::max(lengthSquared(q.a + q.b), lengthSquared(q.a - q.b));
+        corner_ = q.p0;
+        edgeA_ = q.a;
+        edgeB_ = q.b;
     }
     if (kind == Kind::Disk) frame_ = Frame::fromNormal(scene.disks[index].normal);
 }
@@ -209,16 +201,16 @@ std::optional<LightSample> ShapeAreaLight::sampleArea(const Vec3f& p, Vec2f u) c
 }
 
 bool ShapeAreaLight::mayReach(const Vec3f& p, const Vec3f& n) const {
-    if (!emitsTowards(p)) return false;
     // The highest point of the shape over the plane (p, n): the shapes are
     // convex, so a sample above the plane exists only if that point is above it.
     switch (kind_) {
         case Kind::Rectangle: {
-            const Rectangle& q = scene_.rectangles[index_];
-            const float h = dot(q.p0 - p, n), ha = dot(q.a, n), hb = dot(q.b, n);
-            return h + std::max(ha, 0.f) + std::max(hb, 0.f) > 0.f;
+            const float h = dot(corner_ - p, n), ha = dot(edgeA_, n), hb = dot(edgeB_, n);
+            const bool emits = twoSided_ || dot(frame_.n, p - corner_) > 0.f;  // emitsTowards(p)
+            return emits && h + std::max(ha, 0.f) + std::max(hb, 0.f) > 0.f;
         }
         case Kind::Disk: {
+            if (!emitsTowards(p)) return false;
             const Disk& d = scene_.disks[index_];
             const float c = dot(n, d.normal);
             return dot(d.center - p, n) + d.radius * std::sqrt(std::max(0.f, 1.f - c * c)) > 0.f;

@@ -11,6 +11,7 @@
 
 #include "core/scene.h"
 #include "lights/light.h"
+#include "lights/spherical_cap.h"
 
 namespace penumbra {
 
@@ -29,9 +30,6 @@ inline constexpr float kSphericalMinSolidAngle = 1e-3f;
 /// the render time.
 inline constexpr float kSolidAngleSamplingMinBound = 0.5f;
 
-/// Whether a sphere (centre c, squared radius r2) subtends at least `omega`
-/// at p (always when p is inside it).
-bool subtendsAtLeast(const Vec3f& c, float r2, const Vec3f& p, float omega);
 
 /// Shared estimator step: turns a point sampled on an emitter (with its normal
 /// and area pdf) into a solid-angle light sample for shading point p.
@@ -74,6 +72,7 @@ private:
     bool orthogonalEdges_ = false;  // rectangles: spherical sampling needs a true rectangle
     Vec3f boundCenter_;             // rectangles: bounding sphere
     float boundRadius2_ = 0.f;
+    Vec3f corner_, edgeA_, edgeB_;  // rectangles: the shape itself, beside the rest (mayReach)
 };
 
 /// The emissive triangles of one mesh that share one material. The whole

@@ -124,12 +124,6 @@ LightSet::Pick LightSet::pickByPower(float u) const {
     return {i, powerCdf_[i] - lo};
 }
 
-bool LightSet::mayExceedSolidAngle(size_t i, const Vec3f& p, float omega) const {
-    const BoundingSphere& b = bounds_[i];
-    if (b.radius2 < 0.f) return false;
-    return subtendsAtLeast(b.center, b.radius2, p, omega);
-}
-
 std::optional<size_t> LightSet::lightOf(const Hit& hit) const {
     const auto found = [](const std::vector<int32_t>& v, uint32_t i) -> std::optional<size_t> {
         if (i < v.size() && v[i] >= 0) return size_t(v[i]);

@@ -10,6 +10,7 @@
 #include "core/rgb_image.h"
 #include "core/scene.h"
 #include "lights/light.h"
+#include "lights/spherical_cap.h"
 
 namespace penumbra {
 
@@ -45,7 +46,10 @@ public:
     /// Whether area light i may subtend more than omega at p: whether its
     /// bounding sphere does (always inside it; never for delta lights).
     /// Cheap (a multiply and a compare): for deciding where BRDF samples pay.
-    bool mayExceedSolidAngle(size_t i, const Vec3f& p, float omega) const;
+    bool mayExceedSolidAngle(size_t i, const Vec3f& p, float omega) const {
+        const BoundingSphere& b = bounds_[i];
+        return b.radius2 >= 0.f && subtendsAtLeast(b.center, b.radius2, p, omega);
+    }
 
     size_t areaLightCount() const { return areaLights_; }
     float totalEmitterArea() const { return totalArea_; }

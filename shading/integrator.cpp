@@ -9,6 +9,7 @@
 #include "shading/phong_sampling.h"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <vector>
 
@@ -387,7 +388,8 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
     counts.camera += n;
     const std::span<PathLane> batch(lanes, n);
     // The hits of each bounce; a lane's hit is read before the next bounce's overwrite it.
-    std::optional<Hit> nextHits[kMaxBatch];
+    // Made on the first bounce: most batches have none (diffuse scenes, depth 0).
+    std::optional<std::array<std::optional<Hit>, kMaxBatch>> nextHits;
     for (bool first = true;; first = false) {
         // Emission, ambient and the shading point of every lane still going.
         for (size_t i = 0; i < n; ++i) {
@@ -423,8 +425,10 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
             nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;
-        accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(nextHits, nNext));
-        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c] ? &*nextHits[c] : nullptr;
+        if (!nextHits) nextHits.emplace();
+        std::array<std::optional<Hit>, kMaxBatch>& bounce = *nextHits;
+        accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(bounce.data(), nNext));
+        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = bounce[c] ? &*bounce[c] : nullptr;
     }
     for (size_t i = 0; i < n; ++i) {
         counts.pathLengthSum += uint64_t(lanes[i].longest);
@@ -443,8 +447,21 @@ void Integrator::addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint
     // depths once dielectrics split them: one call per depth present, in increasing order. Without
     // dielectrics every lane is at the same depth and this is a single call.
     const size_t n = lanes.size();
-    uint8_t mask[kMaxBatch];
+    // The common case first: every active lane at one depth, one call.
     int depth = -1;
+    bool mixed = false;
+    for (size_t i = 0; i < n; ++i) {
+        if (!active[i]) continue;
+        if (depth < 0) depth = lanes[i].depth;
+        mixed |= lanes[i].depth != depth;
+    }
+    if (depth < 0) return;
+    if (!mixed) {
+        addDirectLight(lanes, active, depth, counts);
+        return;
+    }
+    uint8_t mask[kMaxBatch];
+    depth = -1;
     for (;;) {
         int nextDepth = std::numeric_limits<int>::max();
         for (size_t i = 0; i < n; ++i)

@@ -286,8 +286,8 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                 // One sample per lane: the lanes' samples in one call (Light::sampleEach), so
                 // that their square roots and divisions overlap instead of queueing one lane
                 // after another; queued in lane order, as below.
-                Vec3f points[kMaxBatch];
-                Vec2f us[kMaxBatch];
+                ScratchArray<Vec3f, kMaxBatch> points;
+                ScratchArray<Vec2f, kMaxBatch> us;
                 uint8_t who[kMaxBatch];
                 size_t m = 0;
                 for (size_t q = 0; q < nLit; ++q) {
@@ -298,7 +298,7 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                     who[m++] = lit[q];
                 }
                 ScratchArray<std::optional<LightSample>, kMaxBatch> ls;
-                light.sampleEach(std::span<const Vec3f>(points, m), std::span<const Vec2f>(us, m),
+                light.sampleEach(std::span<const Vec3f>(points.data(), m), std::span<const Vec2f>(us.data(), m),
                                  std::span<std::optional<LightSample>>(ls.data(), m));
                 for (size_t c = 0; c < m; ++c)
                     if (ls[c]) queue.add(who[c], lanes[who[c]].sp, *ls[c], 1.f, ls[c]->pdf, mis[who[c]]);

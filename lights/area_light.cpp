@@ -153,17 +153,24 @@ void ShapeAreaLight::sampleEach(std::span<const Vec3f> p, std::span<const Vec2f>
 
 void ShapeAreaLight::sampleMany(const Vec3f& p, std::span<const Vec2f> u,
                                 std::span<std::optional<LightSample>> out) const {
-    if (kind_ == Kind::Rectangle && u.size() > 1 && emitsTowards(p) && orthogonalEdges_ &&
+    if (kind_ != Kind::Rectangle) {
+        Light::sampleMany(p, u, out);
+        return;
+    }
+    // What sample() gives for each u from this p, with its decision taken once.
+    if (emitsTowards(p) && orthogonalEdges_ &&
         subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound)) {
         // One spherical rectangle (its set-up is most of a sample's cost) for all of p's samples.
-        const Rectangle& q = scene_.rectangles[index_];
-        const SphericalRectangle sr(p, q.p0, q.a, q.b);
+        const SphericalRectangle sr(p, corner_, edgeA_, edgeB_);
         if (sr.solidAngle() >= kSphericalMinSolidAngle) {
             for (size_t k = 0; k < u.size(); ++k) out[k] = solidAngleSample(p, sr.sample(u[k]), sr.solidAngle(), Le_);
             return;
         }
     }
-    Light::sampleMany(p, u, out);
+    // By area: one loop without calls.
+    for (size_t k = 0; k < u.size(); ++k)
+        out[k] = areaLightSample(p, SurfaceSample{corner_ + u[k].x * edgeA_ + u[k].y * edgeB_, frame_.n, pdfArea_}, Le_,
+                                 twoSided_);
 }
 
 float ShapeAreaLight::pdf(const Vec3f& p, const Hit& onLight) const {

@@ -206,22 +206,27 @@ private:
     uint32_t pending_ = 0;
 };
 
-// Light samples drawn together by Light::sampleMany.
-constexpr uint32_t kSampleChunk = 16;
+// Light samples drawn together by Light::sampleMany: 64, so that up to 8 x 8
+// samples share one spherical rectangle set-up (a set-up costs about as much
+// as two samples).
+constexpr uint32_t kSampleChunk = 64;
 
 // Solid angle (sr) from which a light counts as large for a Lambertian point.
 constexpr float kLargeLightSolidAngle = 1.f;
 
 // Whether a shading point also takes BRDF samples under MIS: where the Phong
 // lobe is glossy, or where some light may subtend a large solid angle (an
-// environment always does). A
+// environment always does); never when the only lights are points and
+// directions, which no ray can hit (the samples would all add nothing). A
 // Lambertian point under small lights gains little over solid-angle light
 // samples (they cover each light uniformly; only the cosine varies, and
 // little over a small light) while a BRDF sample costs a closest-hit ray
 // that mostly misses; under a large light the cosine's variation is what
 // is left, and cosine-weighted BRDF samples remove it.
 bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
-    if (!Rgb(sp.material->ks).isBlack() || lights.environment()) return true;  // an environment subtends 4 pi
+    if (lights.environment()) return true;          // an environment subtends 4 pi
+    if (lights.areaLightCount() == 0) return false;  // point and directional lights: nothing a ray can hit
+    if (!Rgb(sp.material->ks).isBlack()) return true;
     for (size_t j = 0; j < lights.areaLightCount(); ++j)
         if (lights.mayExceedSolidAngle(j, sp.p, kLargeLightSolidAngle)) return true;
     return false;
@@ -319,10 +324,10 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                 // In chunks, so that a light's per-shading-point set-up is shared.
                 for (uint32_t k0 = 0; k0 < n; k0 += kSampleChunk) {
                     const uint32_t m = std::min(n - k0, kSampleChunk);
-                    Vec2f u[kSampleChunk];
+                    ScratchArray<Vec2f, kSampleChunk> u;
                     std::optional<LightSample> ls[kSampleChunk];
                     for (uint32_t k = 0; k < m; ++k) u[k] = seq.point(lane.key.index * n + k0 + k);
-                    light.sampleMany(lane.sp.p, std::span<const Vec2f>(u, m), std::span(ls, m));
+                    light.sampleMany(lane.sp.p, std::span<const Vec2f>(u.data(), m), std::span(ls, m));
                     for (uint32_t k = 0; k < m; ++k)
                         if (ls[k]) queue.add(lit[q], lane.sp, *ls[k], 1.f, ls[k]->pdf, mis[lit[q]]);
                 }

@@ -168,7 +168,7 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
                     continue;
                 }
                 // In chunks, so that a light's per-shading-point set-up is shared.
-                constexpr uint32_t kChunk = 16;
+                constexpr uint32_t kChunk = 64;  // up to 8 x 8 samples share one set-up (Light::sampleMany)
                 for (uint32_t k0 = 0; k0 < n; k0 += kChunk) {
                     const uint32_t m = std::min(n - k0, kChunk);
                     Vec2f u[kChunk];

@@ -126,13 +126,29 @@ public:
         // Scrambling works on bit-reversed values, and Sobol's first dimension
         // is the reversed index: owenScramble(reverseBits(i)) is
         // reverseBits(upwardHash(i)).
-        const uint32_t i = detail::owenScramble(index, shuffle_);
+        return shuffledPoint(detail::owenScramble(index, shuffle_));
+    }
+
+    /// Points first .. first + count - 1 (of 2^log2n) of the aligned block of
+    /// 2^log2n indices that starts at block * 2^log2n: together, the block's
+    /// points exactly as point() gives them, in another order. The index
+    /// shuffle maps an aligned block onto an aligned block, so the block's
+    /// place is shuffled once and its points then skip the shuffle (about a
+    /// third of a point's cost). For estimators that sum a whole block.
+    void blockPoints(uint32_t block, uint32_t log2n, uint32_t first, uint32_t count, Vec2f* out) const {
+        const uint32_t low = log2n >= 32 ? ~0u : (1u << log2n) - 1u;
+        const uint32_t base = detail::owenScramble(log2n >= 32 ? 0u : block << log2n, shuffle_) & ~low;
+        for (uint32_t k = 0; k < count; ++k) out[k] = shuffledPoint(base | ((first + k) & low));
+    }
+
+private:
+    // The point of shuffled index i.
+    [[gnu::always_inline]] Vec2f shuffledPoint(uint32_t i) const {
         const uint32_t x = detail::reverseBits(detail::upwardHash(i, scrambleX_));
         const uint32_t y = detail::reverseBits(detail::upwardHash(detail::sobolSecondReversed(i), scrambleY_));
         return {detail::fixedToUnit(x), detail::fixedToUnit(y)};
     }
 
-private:
     uint32_t shuffle_, scrambleX_, scrambleY_;
 };
 

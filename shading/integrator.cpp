@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <limits>
 #include <vector>
 
@@ -267,6 +268,11 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
     // many still carry the highlight, and the power heuristic weighs each
     // strategy by its count.
     const uint32_t nBrdf = (n + 1) / 2;
+    // A shading point's n samples are one aligned block of its sequence; when
+    // n is a power of two the block's points are drawn without the per-point
+    // index shuffle (OwenSobol2D::blockPoints: the same points, in another order).
+    const int blockLog2 = std::has_single_bit(n) ? std::countr_zero(n) : -1;
+    const int brdfBlockLog2 = std::has_single_bit(nBrdf) ? std::countr_zero(nBrdf) : -1;
     ShadowQueue queue(accel_, counts, acc.data(), float(n), float(nBrdf));
 
     // Sample k of lane q's n in dimension dim: point index * n + k of the
@@ -326,7 +332,10 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                     const uint32_t m = std::min(n - k0, kSampleChunk);
                     ScratchArray<Vec2f, kSampleChunk> u;
                     std::optional<LightSample> ls[kSampleChunk];
-                    for (uint32_t k = 0; k < m; ++k) u[k] = seq.point(lane.key.index * n + k0 + k);
+                    if (blockLog2 >= 0)
+                        seq.blockPoints(lane.key.index, uint32_t(blockLog2), k0, m, u.data());
+                    else
+                        for (uint32_t k = 0; k < m; ++k) u[k] = seq.point(lane.key.index * n + k0 + k);
                     light.sampleMany(lane.sp.p, std::span<const Vec2f>(u.data(), m), std::span(ls, m));
                     for (uint32_t k = 0; k < m; ++k)
                         if (ls[k]) queue.add(lit[q], lane.sp, *ls[k], 1.f, ls[k]->pdf, mis[lit[q]]);
@@ -369,7 +378,16 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                 if (auto s = samplePhong(*sp.material, sp.kd, sp.ns, sp.wo, u)) brdfQueue.add(lit[q], sp, *s);
             };
             const OwenSobol2D seq = dimensionSequence(lane.key, dim);
-            for (uint32_t k = 0; k < nBrdf; ++k) brdfSample(seq.point(lane.key.index * nBrdf + k));
+            if (brdfBlockLog2 >= 0) {
+                for (uint32_t k0 = 0; k0 < nBrdf; k0 += kSampleChunk) {
+                    const uint32_t m = std::min(nBrdf - k0, kSampleChunk);
+                    ScratchArray<Vec2f, kSampleChunk> u;
+                    seq.blockPoints(lane.key.index, uint32_t(brdfBlockLog2), k0, m, u.data());
+                    for (uint32_t k = 0; k < m; ++k) brdfSample(u[k]);
+                }
+            } else {
+                for (uint32_t k = 0; k < nBrdf; ++k) brdfSample(seq.point(lane.key.index * nBrdf + k));
+            }
         }
         brdfQueue.flush();
         for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += brdf[lit[q]] * (1.f / float(nBrdf));

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -137,5 +138,31 @@ TEST(OwenSobol, ReverseBitsReversesEveryBit) {
         for (uint32_t k = 0; k < 32; ++k) naive |= ((x >> k) & 1u) << (31 - k);
         ASSERT_EQ(detail::reverseBits(x), naive) << x;
         ASSERT_EQ(detail::reverseBits(detail::reverseBits(x)), x);
+    }
+}
+
+TEST(OwenSobol, BlockPointsAreTheBlocksPointsInAnotherOrder) {
+    // The integrators draw a shading point's 2^m samples with blockPoints:
+    // the estimator sums them, so they must be exactly point()'s for the
+    // block, whatever the order and however the block is cut into chunks.
+    for (uint64_t key : {1ULL, 0x9e3779b97f4a7c15ULL}) {
+        const OwenSobol2D seq(key);
+        for (uint32_t log2n : {0u, 1u, 4u, 6u, 8u}) {
+            const uint32_t n = 1u << log2n;
+            for (uint32_t block : {0u, 1u, 7u, 99u}) {
+                std::vector<std::pair<float, float>> expected, got;
+                for (uint32_t k = 0; k < n; ++k) {
+                    const Vec2f p = seq.point(block * n + k);
+                    expected.emplace_back(p.x, p.y);
+                }
+                std::vector<Vec2f> out(n);
+                for (uint32_t k0 = 0; k0 < n; k0 += 16)  // in chunks, as the integrators draw them
+                    seq.blockPoints(block, log2n, k0, std::min(16u, n - k0), out.data() + k0);
+                for (const Vec2f& p : out) got.emplace_back(p.x, p.y);
+                std::sort(expected.begin(), expected.end());
+                std::sort(got.begin(), got.end());
+                EXPECT_EQ(expected, got) << "key " << key << " block " << block << " n " << n;
+            }
+        }
     }
 }

@@ -20,7 +20,6 @@
 // one pixel are not correlated point by point.
 #pragma once
 
-#include <algorithm>
 #include <cstdint>
 
 #include "core/hash.h"
@@ -102,7 +101,10 @@ inline uint32_t sobolSecondReversed(uint32_t i) {
 /// Second Sobol dimension of index i, as a 0.32 fixed-point value.
 inline uint32_t sobolSecond(uint32_t i) { return reverseBits(sobolSecondReversed(i)); }
 
-inline float fixedToUnit(uint32_t x) { return std::min(static_cast<float>(x >> 8) * (1.f / 16777216.f), 0x1.fffffep-1f); }
+/// The top 24 bits of a 0.32 fixed-point value as a float in [0, 1): exact,
+/// and at most 1 - 2^-24, so no clamp is needed (the signed conversion is
+/// the single instruction; the value fits either way).
+inline float fixedToUnit(uint32_t x) { return static_cast<float>(static_cast<int32_t>(x >> 8)) * (1.f / 16777216.f); }
 
 }  // namespace detail
 

@@ -51,17 +51,6 @@ Transform Transform::operator*(const Transform& o) const {
     return r;
 }
 
-Vec3f Transform::applyPoint(const Vec3f& p) const {
-    return {m_[0][0] * p.x + m_[0][1] * p.y + m_[0][2] * p.z + m_[0][3],
-            m_[1][0] * p.x + m_[1][1] * p.y + m_[1][2] * p.z + m_[1][3],
-            m_[2][0] * p.x + m_[2][1] * p.y + m_[2][2] * p.z + m_[2][3]};
-}
-
-Vec3f Transform::applyVector(const Vec3f& v) const {
-    return {m_[0][0] * v.x + m_[0][1] * v.y + m_[0][2] * v.z, m_[1][0] * v.x + m_[1][1] * v.y + m_[1][2] * v.z,
-            m_[2][0] * v.x + m_[2][1] * v.y + m_[2][2] * v.z};
-}
-
 Vec3f Transform::applyNormal(const Vec3f& n) const {
     // Inverse transpose of the linear part equals the cofactor matrix / det;
     // the scale does not matter for a normal, so use the cofactors directly.

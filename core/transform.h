@@ -20,8 +20,16 @@ public:
     /// this * other: apply other first.
     Transform operator*(const Transform& other) const;
 
-    Vec3f applyPoint(const Vec3f& p) const;
-    Vec3f applyVector(const Vec3f& v) const;
+    // Inline: boxes apply them on every hit and every slab test.
+    Vec3f applyPoint(const Vec3f& p) const {
+        return {m_[0][0] * p.x + m_[0][1] * p.y + m_[0][2] * p.z + m_[0][3],
+                m_[1][0] * p.x + m_[1][1] * p.y + m_[1][2] * p.z + m_[1][3],
+                m_[2][0] * p.x + m_[2][1] * p.y + m_[2][2] * p.z + m_[2][3]};
+    }
+    Vec3f applyVector(const Vec3f& v) const {
+        return {m_[0][0] * v.x + m_[0][1] * v.y + m_[0][2] * v.z, m_[1][0] * v.x + m_[1][1] * v.y + m_[1][2] * v.z,
+                m_[2][0] * v.x + m_[2][1] * v.y + m_[2][2] * v.z};
+    }
     /// Transforms a normal with the inverse transpose; the result is not normalised.
     Vec3f applyNormal(const Vec3f& n) const;
 

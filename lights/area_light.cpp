@@ -35,7 +35,6 @@ float areaPdfToSolidAngle(const Vec3f& p, const Vec3f& point, const Vec3f& n, fl
     return std::isfinite(pdf) ? pdf : 0.f;
 }
 
-
 namespace {
 
 std::optional<LightSample> solidAngleSample(const Vec3f& p, const Vec3f& point, float solidAngle, const Rgb& Le) {
@@ -129,7 +128,6 @@ void ShapeAreaLight::sampleEach(std::span<const Vec3f> p, std::span<const Vec2f>
     // for a spherical rectangle one by one (each has its own set-up), then the
     // others by area in a loop without calls, where the square root and the
     // two divisions of one point overlap with those of the next.
-    const Rectangle& q = scene_.rectangles[index_];
     constexpr size_t kChunk = 64;
     for (size_t b = 0; b < p.size(); b += kChunk) {
         const size_t n = std::min(kChunk, p.size() - b);
@@ -139,15 +137,15 @@ void ShapeAreaLight::sampleEach(std::span<const Vec3f> p, std::span<const Vec2f>
             if (!emitsTowards(p[k]) || !orthogonalEdges_ ||
                 !subtendsAtLeast(boundCenter_, boundRadius2_, p[k], kSolidAngleSamplingMinBound))
                 continue;
-            const SphericalRectangle sr(p[k], q.p0, q.a, q.b);
+            const SphericalRectangle sr(p[k], corner_, edgeA_, edgeB_);
             if (sr.solidAngle() < kSphericalMinSolidAngle) continue;
             out[k] = solidAngleSample(p[k], sr.sample(u[k]), sr.solidAngle(), Le_);
             byArea[k - b] = 0;
         }
         for (size_t k = b; k < b + n; ++k)
             if (byArea[k - b])
-                out[k] = areaLightSample(p[k], SurfaceSample{q.p0 + u[k].x * q.a + u[k].y * q.b, frame_.n, pdfArea_}, Le_,
-                                         twoSided_);
+                out[k] = areaLightSample(p[k], SurfaceSample{corner_ + u[k].x * edgeA_ + u[k].y * edgeB_, frame_.n, pdfArea_},
+                                         Le_, twoSided_);
     }
 }
 

@@ -30,7 +30,6 @@ inline constexpr float kSphericalMinSolidAngle = 1e-3f;
 /// the render time.
 inline constexpr float kSolidAngleSamplingMinBound = 0.5f;
 
-
 /// Shared estimator step: turns a point sampled on an emitter (with its normal
 /// and area pdf) into a solid-angle light sample for shading point p.
 /// One-sided emitters emit on the side their normal faces.
@@ -72,7 +71,7 @@ private:
     bool orthogonalEdges_ = false;  // rectangles: spherical sampling needs a true rectangle
     Vec3f boundCenter_;             // rectangles: bounding sphere
     float boundRadius2_ = 0.f;
-    Vec3f corner_, edgeA_, edgeB_;  // rectangles: the shape itself, beside the rest (mayReach)
+    Vec3f corner_, edgeA_, edgeB_;  // rectangles: the shape itself, kept here for the per-sample paths
 };
 
 /// The emissive triangles of one mesh that share one material. The whole

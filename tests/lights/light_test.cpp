@@ -163,11 +163,17 @@ TEST(AreaLights, MayReachIsFalseOnlyWhereEverySampleIsDiscarded) {
     s.rectangles.push_back(Rectangle{Vec3f{0.2f, 0.3f, -0.4f}, Vec3f{0.8f, 0, 0}, Vec3f{0.3f, 0.6f, 0.2f}, 0});
     s.disks.push_back(Disk{Vec3f{0.3f, 1.2f, 0.1f}, normalize(Vec3f{0.2f, -1.f, 0.3f}), 0.7f, 0});
     s.spheres.push_back(Sphere{Vec3f{-0.4f, 0.9f, 0.5f}, 0.6f, 0});
+    TriangleMesh m;  // two one-sided triangles facing -y, tilted
+    for (Vec3f v : {Vec3f{-0.6f, 1.1f, -0.2f}, Vec3f{0.4f, 1.3f, -0.2f}, Vec3f{-0.6f, 1.1f, 0.8f}, Vec3f{0.4f, 1.3f, 0.8f}})
+        m.positions.push_back(v);
+    m.indices = {0, 2, 1, 1, 2, 3};
+    s.meshes.push_back(m);
     std::vector<std::unique_ptr<Light>> lights;
     lights.push_back(std::make_unique<ShapeAreaLight>(s, ShapeAreaLight::Kind::Rectangle, 0));
     lights.push_back(std::make_unique<ShapeAreaLight>(s, ShapeAreaLight::Kind::Rectangle, 1));
     lights.push_back(std::make_unique<ShapeAreaLight>(s, ShapeAreaLight::Kind::Disk, 0));
     lights.push_back(std::make_unique<ShapeAreaLight>(s, ShapeAreaLight::Kind::Sphere, 0));
+    lights.push_back(std::make_unique<MeshAreaLight>(s, 0, 0, std::vector<uint32_t>{0, 1}));
     size_t said[2] = {0, 0};
     for (uint32_t i = 0; i < 400; ++i) {
         // Points around the lights, normals in every direction.

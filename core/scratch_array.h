@@ -4,7 +4,9 @@
 // they are read cost more than the work they hold (shadow queues: 16 rays
 // and weights per call). Only for implicit-lifetime value types (trivially
 // copyable and destructible), whose objects come into existence with the
-// storage; read an element only after writing it.
+// storage; read an element only after writing it, and never hand one to
+// code that assigns through it (std::optional's assignment reads its own
+// engaged flag: construct those).
 #pragma once
 
 #include <cstddef>

@@ -308,9 +308,9 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                     us[m] = dimensionSequence(lane.key, dim).point(lane.key.index);
                     who[m++] = lit[q];
                 }
-                ScratchArray<std::optional<LightSample>, kMaxBatch> ls;
+                std::optional<LightSample> ls[kMaxBatch];  // constructed: sampleEach assigns to them
                 light.sampleEach(std::span<const Vec3f>(points.data(), m), std::span<const Vec2f>(us.data(), m),
-                                 std::span<std::optional<LightSample>>(ls.data(), m));
+                                 std::span<std::optional<LightSample>>(ls, m));
                 for (size_t c = 0; c < m; ++c)
                     if (ls[c]) queue.add(who[c], lanes[who[c]].sp, *ls[c], 1.f, ls[c]->pdf, mis[who[c]]);
                 queue.flush();

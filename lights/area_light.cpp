@@ -81,31 +81,31 @@ ShapeAreaLight::ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index) : 
 bool ShapeAreaLight::emitsTowards(const Vec3f& p) const {
     if (twoSided_) return true;
     switch (kind_) {
-        case Kind::Rectangle: return dot(frame_.n, p - scene_.rectangles[index_].p0) > 0.f;
+        case Kind::Rectangle: return dot(frame_.n, p - corner_) > 0.f;
         case Kind::Disk: return dot(frame_.n, p - scene_.disks[index_].center) > 0.f;
         case Kind::Sphere: return true;  // outside sees the front; inside is checked per point
     }
     return true;
 }
 
-bool ShapeAreaLight::sphericalRectangleFrom(const Vec3f& p, float* solidAngle) const {
-    if (!orthogonalEdges_ || !subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound)) return false;
-    const Rectangle& q = scene_.rectangles[index_];
-    const SphericalRectangle sr(p, q.p0, q.a, q.b);
-    *solidAngle = sr.solidAngle();
-    return *solidAngle >= kSphericalMinSolidAngle;
+std::optional<SphericalRectangle> ShapeAreaLight::sphericalRectangleAt(const Vec3f& p) const {
+    if (!orthogonalEdges_ || !subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound))
+        return std::nullopt;
+    const SphericalRectangle sr(p, corner_, edgeA_, edgeB_);
+    if (sr.solidAngle() < kSphericalMinSolidAngle) return std::nullopt;
+    return sr;
+}
+
+std::optional<LightSample> ShapeAreaLight::rectangleAreaSample(const Vec3f& p, Vec2f u) const {
+    return areaLightSample(p, SurfaceSample{corner_ + u.x * edgeA_ + u.y * edgeB_, frame_.n, pdfArea_}, Le_, twoSided_);
 }
 
 std::optional<LightSample> ShapeAreaLight::sample(const Vec3f& p, Vec2f u) const {
     switch (kind_) {
         case Kind::Rectangle: {
-            if (!emitsTowards(p) || !orthogonalEdges_ ||
-                !subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound))
-                break;
-            const Rectangle& q = scene_.rectangles[index_];
-            const SphericalRectangle sr(p, q.p0, q.a, q.b);
-            if (sr.solidAngle() < kSphericalMinSolidAngle) break;
-            return solidAngleSample(p, sr.sample(u), sr.solidAngle(), Le_);
+            if (!emitsTowards(p)) break;
+            if (const auto sr = sphericalRectangleAt(p)) return solidAngleSample(p, sr->sample(u), sr->solidAngle(), Le_);
+            break;
         }
         case Kind::Sphere: {
             const Sphere& s = scene_.spheres[index_];
@@ -133,19 +133,12 @@ void ShapeAreaLight::sampleEach(std::span<const Vec3f> p, std::span<const Vec2f>
         const size_t n = std::min(kChunk, p.size() - b);
         uint8_t byArea[kChunk];
         for (size_t k = b; k < b + n; ++k) {
-            byArea[k - b] = 1;
-            if (!emitsTowards(p[k]) || !orthogonalEdges_ ||
-                !subtendsAtLeast(boundCenter_, boundRadius2_, p[k], kSolidAngleSamplingMinBound))
-                continue;
-            const SphericalRectangle sr(p[k], corner_, edgeA_, edgeB_);
-            if (sr.solidAngle() < kSphericalMinSolidAngle) continue;
-            out[k] = solidAngleSample(p[k], sr.sample(u[k]), sr.solidAngle(), Le_);
-            byArea[k - b] = 0;
+            const auto sr = emitsTowards(p[k]) ? sphericalRectangleAt(p[k]) : std::nullopt;
+            if (sr) out[k] = solidAngleSample(p[k], sr->sample(u[k]), sr->solidAngle(), Le_);
+            byArea[k - b] = sr ? 0 : 1;
         }
         for (size_t k = b; k < b + n; ++k)
-            if (byArea[k - b])
-                out[k] = areaLightSample(p[k], SurfaceSample{corner_ + u[k].x * edgeA_ + u[k].y * edgeB_, frame_.n, pdfArea_},
-                                         Le_, twoSided_);
+            if (byArea[k - b]) out[k] = rectangleAreaSample(p[k], u[k]);
     }
 }
 
@@ -156,27 +149,19 @@ void ShapeAreaLight::sampleMany(const Vec3f& p, std::span<const Vec2f> u,
         return;
     }
     // What sample() gives for each u from this p, with its decision taken once.
-    if (emitsTowards(p) && orthogonalEdges_ &&
-        subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound)) {
-        // One spherical rectangle (its set-up is most of a sample's cost) for all of p's samples.
-        const SphericalRectangle sr(p, corner_, edgeA_, edgeB_);
-        if (sr.solidAngle() >= kSphericalMinSolidAngle) {
-            for (size_t k = 0; k < u.size(); ++k) out[k] = solidAngleSample(p, sr.sample(u[k]), sr.solidAngle(), Le_);
-            return;
-        }
+    // One spherical rectangle (its set-up is most of a sample's cost) for all of p's samples.
+    if (const auto sr = emitsTowards(p) ? sphericalRectangleAt(p) : std::nullopt) {
+        for (size_t k = 0; k < u.size(); ++k) out[k] = solidAngleSample(p, sr->sample(u[k]), sr->solidAngle(), Le_);
+        return;
     }
     // By area: one loop without calls.
-    for (size_t k = 0; k < u.size(); ++k)
-        out[k] = areaLightSample(p, SurfaceSample{corner_ + u[k].x * edgeA_ + u[k].y * edgeB_, frame_.n, pdfArea_}, Le_,
-                                 twoSided_);
+    for (size_t k = 0; k < u.size(); ++k) out[k] = rectangleAreaSample(p, u[k]);
 }
 
 float ShapeAreaLight::pdf(const Vec3f& p, const Hit& onLight) const {
     if (!emitsTowards(p)) return 0.f;
-    if (kind_ == Kind::Rectangle) {
-        float solidAngle = 0.f;
-        if (sphericalRectangleFrom(p, &solidAngle)) return 1.f / solidAngle;
-    }
+    if (kind_ == Kind::Rectangle)
+        if (const auto sr = sphericalRectangleAt(p)) return 1.f / sr->solidAngle();
     if (kind_ == Kind::Sphere) {
         const Sphere& s = scene_.spheres[index_];
         if (const float pdf = sphereConePdf(p, s.center, s.radius); pdf > 0.f) return pdf;
@@ -189,11 +174,7 @@ std::optional<LightSample> ShapeAreaLight::sampleArea(const Vec3f& p, Vec2f u) c
     // pdf taken from the constructor.
     SurfaceSample s{};
     switch (kind_) {
-        case Kind::Rectangle: {
-            const Rectangle& q = scene_.rectangles[index_];
-            s = {q.p0 + u.x * q.a + u.y * q.b, frame_.n, pdfArea_};
-            break;
-        }
+        case Kind::Rectangle: return rectangleAreaSample(p, u);
         case Kind::Disk: {
             const Disk& d = scene_.disks[index_];
             const Vec2f c = squareToConcentricDisk(u);
@@ -211,8 +192,7 @@ bool ShapeAreaLight::mayReach(const Vec3f& p, const Vec3f& n) const {
     switch (kind_) {
         case Kind::Rectangle: {
             const float h = dot(corner_ - p, n), ha = dot(edgeA_, n), hb = dot(edgeB_, n);
-            const bool emits = twoSided_ || dot(frame_.n, p - corner_) > 0.f;  // emitsTowards(p)
-            return emits && h + std::max(ha, 0.f) + std::max(hb, 0.f) > 0.f;
+            return emitsTowards(p) && h + std::max(ha, 0.f) + std::max(hb, 0.f) > 0.f;
         }
         case Kind::Disk: {
             if (!emitsTowards(p)) return false;

@@ -12,6 +12,7 @@
 #include "core/scene.h"
 #include "lights/light.h"
 #include "lights/spherical_cap.h"
+#include "lights/spherical_rectangle.h"
 
 namespace penumbra {
 
@@ -54,8 +55,12 @@ public:
     float area() const { return area_; }
 
 private:
-    /// Whether sample() uses the spherical rectangle from p (else area sampling).
-    bool sphericalRectangleFrom(const Vec3f& p, float* solidAngle) const;
+    /// The spherical rectangle sample() uses from p, where it uses one (a true
+    /// rectangle, near enough, subtending enough); else it samples by area.
+    /// The one-sided check (emitsTowards) is the caller's.
+    std::optional<SphericalRectangle> sphericalRectangleAt(const Vec3f& p) const;
+    /// A point uniform in the rectangle's area, as a light sample from p.
+    std::optional<LightSample> rectangleAreaSample(const Vec3f& p, Vec2f u) const;
     bool emitsTowards(const Vec3f& p) const;
 
     const Scene& scene_;

@@ -20,6 +20,7 @@
 // one pixel are not correlated point by point.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 
 #include "core/hash.h"
@@ -141,6 +142,18 @@ public:
         const uint32_t low = log2n >= 32 ? ~0u : (1u << log2n) - 1u;
         const uint32_t base = detail::owenScramble(log2n >= 32 ? 0u : block << log2n, shuffle_) & ~low;
         for (uint32_t k = 0; k < count; ++k) out[k] = shuffledPoint(base | ((first + k) & low));
+    }
+
+    /// Points first .. first + count - 1 of the n points that camera sample
+    /// `index` draws (indices index * n ..): blockPoints where n is a power of
+    /// two, else point() one by one. The n points together are the same
+    /// either way; summed over the whole block, so is the estimate.
+    void samplePoints(uint32_t index, uint32_t n, uint32_t first, uint32_t count, Vec2f* out) const {
+        if (std::has_single_bit(n)) {
+            blockPoints(index, uint32_t(std::countr_zero(n)), first, count, out);
+            return;
+        }
+        for (uint32_t k = 0; k < count; ++k) out[k] = point(index * n + first + k);
     }
 
 private:

@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <limits>
 #include <vector>
 
@@ -268,11 +267,6 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
     // many still carry the highlight, and the power heuristic weighs each
     // strategy by its count.
     const uint32_t nBrdf = (n + 1) / 2;
-    // A shading point's n samples are one aligned block of its sequence; when
-    // n is a power of two the block's points are drawn without the per-point
-    // index shuffle (OwenSobol2D::blockPoints: the same points, in another order).
-    const int blockLog2 = std::has_single_bit(n) ? std::countr_zero(n) : -1;
-    const int brdfBlockLog2 = std::has_single_bit(nBrdf) ? std::countr_zero(nBrdf) : -1;
     ShadowQueue queue(accel_, counts, acc.data(), float(n), float(nBrdf));
 
     // Sample k of lane q's n in dimension dim: point index * n + k of the
@@ -332,10 +326,7 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                     const uint32_t m = std::min(n - k0, kSampleChunk);
                     ScratchArray<Vec2f, kSampleChunk> u;
                     std::optional<LightSample> ls[kSampleChunk];
-                    if (blockLog2 >= 0)
-                        seq.blockPoints(lane.key.index, uint32_t(blockLog2), k0, m, u.data());
-                    else
-                        for (uint32_t k = 0; k < m; ++k) u[k] = seq.point(lane.key.index * n + k0 + k);
+                    seq.samplePoints(lane.key.index, n, k0, m, u.data());  // without the shuffle where n = 2^k
                     light.sampleMany(lane.sp.p, std::span<const Vec2f>(u.data(), m), std::span(ls, m));
                     for (uint32_t k = 0; k < m; ++k)
                         if (ls[k]) queue.add(lit[q], lane.sp, *ls[k], 1.f, ls[k]->pdf, mis[lit[q]]);
@@ -374,19 +365,13 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
             if (!mis[lit[q]]) continue;
             const PathLane& lane = lanes[lit[q]];
             const ShadingPoint& sp = lane.sp;
-            const auto brdfSample = [&](Vec2f u) {
-                if (auto s = samplePhong(*sp.material, sp.kd, sp.ns, sp.wo, u)) brdfQueue.add(lit[q], sp, *s);
-            };
             const OwenSobol2D seq = dimensionSequence(lane.key, dim);
-            if (brdfBlockLog2 >= 0) {
-                for (uint32_t k0 = 0; k0 < nBrdf; k0 += kSampleChunk) {
-                    const uint32_t m = std::min(nBrdf - k0, kSampleChunk);
-                    ScratchArray<Vec2f, kSampleChunk> u;
-                    seq.blockPoints(lane.key.index, uint32_t(brdfBlockLog2), k0, m, u.data());
-                    for (uint32_t k = 0; k < m; ++k) brdfSample(u[k]);
-                }
-            } else {
-                for (uint32_t k = 0; k < nBrdf; ++k) brdfSample(seq.point(lane.key.index * nBrdf + k));
+            for (uint32_t k0 = 0; k0 < nBrdf; k0 += kSampleChunk) {
+                const uint32_t m = std::min(nBrdf - k0, kSampleChunk);
+                ScratchArray<Vec2f, kSampleChunk> u;
+                seq.samplePoints(lane.key.index, nBrdf, k0, m, u.data());
+                for (uint32_t k = 0; k < m; ++k)
+                    if (auto s = samplePhong(*sp.material, sp.kd, sp.ns, sp.wo, u[k])) brdfQueue.add(lit[q], sp, *s);
             }
         }
         brdfQueue.flush();

@@ -1,7 +1,6 @@
 #include "shading/path_integrator.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 
 #include "lights/environment_light.h"
@@ -174,10 +173,7 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
                     const uint32_t m = std::min(n - k0, kChunk);
                     Vec2f u[kChunk];
                     std::optional<LightSample> ls[kChunk];
-                    if (std::has_single_bit(n))  // the same points, without the per-point shuffle
-                        seq.blockPoints(v.key.index, uint32_t(std::countr_zero(n)), k0, m, u);
-                    else
-                        for (uint32_t k = 0; k < m; ++k) u[k] = seq.point(v.key.index * n + k0 + k);
+                    seq.samplePoints(v.key.index, n, k0, m, u);  // without the shuffle where n = 2^k
                     light.sampleMany(v.sp.p, std::span<const Vec2f>(u, m), std::span(ls, m));
                     for (uint32_t k = 0; k < m; ++k)
                         if (ls[k]) addSample(lit[q], *ls[k], 1.f, invN);

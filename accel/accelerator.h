@@ -88,9 +88,10 @@ protected:
     explicit Accelerator(const Scene& scene) : scene_(scene) {}
     bool acceptRay(const Ray& r) const {
         if (isValidRay(r)) return true;
-        invalidRays_.fetch_add(1, std::memory_order_relaxed);
+        countInvalidRays(1);
         return false;
     }
+    void countInvalidRays(uint64_t n) const { invalidRays_.fetch_add(n, std::memory_order_relaxed); }
 
     const Scene& scene_;
 

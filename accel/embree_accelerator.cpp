@@ -273,6 +273,25 @@ public:
         }
     }
 
+    // Writes up to W rays into a packet's lanes (idle rays after the last)
+    // and marks in ok[] the lanes whose ray is valid (isValidRay), counting
+    // the invalid ones; their lanes get the idle ray, so no invalid ray
+    // reaches Embree. The tests run over the lanes as arrays (vectorised).
+    template <int W, class PacketRay>
+    void loadLanes(std::span<const Ray> rays, int n, PacketRay& p, int* ok) const {
+        for (int l = 0; l < W; ++l) setLane(p, l, l < n ? rays[l] : kIdleLane);
+        int invalid = 0;
+        for (int l = 0; l < W; ++l) {
+            ok[l] = isValidRayComponents(p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
+                                         p.tnear[l], p.tfar[l]);
+            invalid += 1 - ok[l];
+        }
+        if (invalid == 0) return;
+        countInvalidRays(uint64_t(invalid));
+        for (int l = 0; l < W; ++l)
+            if (!ok[l]) setLane(p, l, kIdleLane);
+    }
+
     // One packet of up to W rays; returns how many rays it answered. Lanes
     // whose ray is invalid (counted) or has an empty interval stay inactive,
     // so no invalid ray reaches Embree; they miss, exactly as intersectPrim says.
@@ -280,13 +299,13 @@ public:
     size_t intersectPacket(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out) const {
         const int n = static_cast<int>(std::min<size_t>(W, rays.size()));
         alignas(64) int valid[W];
+        alignas(64) int ok[W];
         alignas(64) typename Packet<W>::RayHit rh;
-        bool any = false;
+        loadLanes<W>(rays, n, rh.ray, ok);
+        int any = 0;
         for (int l = 0; l < W; ++l) {
-            const bool ok = l < n && acceptRay(rays[l]) && rays[l].tfar > rays[l].tnear;
-            valid[l] = ok ? -1 : 0;
-            any |= ok;
-            setLane(rh.ray, l, ok ? rays[l] : kIdleLane);
+            valid[l] = (ok[l] & (rh.ray.tfar[l] > rh.ray.tnear[l])) ? -1 : 0;
+            any |= valid[l];
             rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
             rh.hit.primID[l] = RTC_INVALID_GEOMETRY_ID;
             rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
@@ -296,16 +315,34 @@ public:
             rtcInitIntersectContext(&ctx);
             Packet<W>::intersect(valid, rtcScene_.get(), &ctx, &rh);
         }
+        // Planes after Embree, each against the lane's closest hit so far
+        // (Embree shrank tfar to it), as closerPlane does for one ray.
+        alignas(64) int plane[W];
+        for (int l = 0; l < W; ++l) plane[l] = -1;
+        const auto& planes = scene_.planes;
+        for (size_t i = 0; i < planes.size(); ++i) {
+            const Plane p = planes[i];  // a copy: the lanes' stores cannot change it
+            const int index = static_cast<int>(i);
+            for (int l = 0; l < W; ++l) {
+                const float t = planeHitDistance(p, rh.ray.org_x[l], rh.ray.org_y[l], rh.ray.org_z[l], rh.ray.dir_x[l],
+                                                 rh.ray.dir_y[l], rh.ray.dir_z[l], rh.ray.tnear[l], rh.ray.tfar[l]);
+                // t is infinite when there is no hit, and at most tfar when there is one.
+                plane[l] = t < kInfinity ? index : plane[l];
+                rh.ray.tfar[l] = std::min(t, rh.ray.tfar[l]);
+            }
+        }
         for (int l = 0; l < n; ++l) {
-            out[l].reset();
-            if (!valid[l]) continue;
-            Ray r = rays[l];
-            if (rh.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID) {
+            if (!valid[l]) {
+                out[l].reset();
+            } else if (plane[l] >= 0) {
+                out[l] = PrimIntersection{PrimRef{ShapeKind::Plane, static_cast<uint32_t>(plane[l]), 0}, rh.ray.tfar[l],
+                                          0.f, 0.f};
+            } else if (rh.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID) {
                 out[l] = PrimIntersection{refOf(rh.hit.geomID[l], rh.hit.primID[l], rh.hit.instID[0][l]),
                                           rh.ray.tfar[l], rh.hit.u[l], rh.hit.v[l]};
-                r.tfar = rh.ray.tfar[l];
+            } else {
+                out[l].reset();
             }
-            closerPlane(r, out[l]);
         }
         return size_t(n);
     }
@@ -314,36 +351,26 @@ public:
     size_t occludedPacket(std::span<const Ray> rays, std::span<uint8_t> out) const {
         const int n = static_cast<int>(std::min<size_t>(W, rays.size()));
         alignas(64) int valid[W];
+        alignas(64) int ok[W];
+        alignas(64) int blocked[W];
         alignas(64) typename Packet<W>::RayOnly pr;
-        bool any = false;
+        loadLanes<W>(rays, n, pr, ok);
+        // The open interval (tnear, tfar), as in occluded(): every test here
+        // accepts t <= tfar, so ask for the float just below tfar.
+        for (int l = 0; l < W; ++l) pr.tfar[l] = nextFloatDown(pr.tfar[l]);
+        for (int l = 0; l < W; ++l) blocked[l] = 0;
+        for (const Plane& p : scene_.planes)
+            for (int l = 0; l < W; ++l)
+                blocked[l] |= planeHitDistance(p, pr.org_x[l], pr.org_y[l], pr.org_z[l], pr.dir_x[l], pr.dir_y[l],
+                                               pr.dir_z[l], pr.tnear[l], pr.tfar[l]) < kInfinity;
+        int any = 0;
         for (int l = 0; l < W; ++l) {
-            bool ok = false;
-            if (l < n) {
-                out[l] = 0;
-                if (acceptRay(rays[l])) {
-                    // The open interval (tnear, tfar), as in occluded().
-                    Ray r = rays[l];
-                    r.tfar = nextFloatDown(r.tfar);
-                    if (r.tfar > r.tnear) {
-                        bool plane = false;
-                        for (const auto& p : scene_.planes)
-                            if (penumbra::intersect(p, r)) {
-                                plane = true;
-                                break;
-                            }
-                        if (plane) {
-                            out[l] = 1;
-                        } else {
-                            ok = hasEmbreeGeometry_;
-                            if (ok) setLane(pr, l, r);
-                        }
-                    }
-                }
-            }
-            valid[l] = ok ? -1 : 0;
-            any |= ok;
-            if (!ok) setLane(pr, l, kIdleLane);
+            const int open = ok[l] & (pr.tfar[l] > pr.tnear[l]);
+            blocked[l] &= open;
+            valid[l] = (open & !blocked[l] & int(hasEmbreeGeometry_)) ? -1 : 0;
+            any |= valid[l];
         }
+        for (int l = 0; l < n; ++l) out[l] = static_cast<uint8_t>(blocked[l]);
         if (!any) return size_t(n);
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);

@@ -30,15 +30,21 @@ inline float nextFloatDown(float x) {
 /// Embree 3.13.5 (as Debian builds it) asserts on malformed rays and aborts the
 /// process. These are the conditions it checks; an invalid ray must be answered
 /// as a miss without reaching Embree. Both accelerators apply the same test so
-/// they agree on every ray.
-inline bool isValidRay(const Ray& r) {
+/// they agree on every ray. Written on the ray's components without branches
+/// (|x| <= bound is false for NaN and infinities), so that a loop over the
+/// lanes of a ray packet vectorises; isValidRay is this on one ray.
+inline bool isValidRayComponents(float ox, float oy, float oz, float dx, float dy, float dz, float tnear, float tfar) {
     constexpr float kMaxOrigin = 1.8e18f;
-    if (!isFinite(r.o) || !isFinite(r.d)) return false;
-    if (maxAbsComponent(r.o) > kMaxOrigin) return false;
-    if (!(r.tnear >= 0.f)) return false;          // also rejects NaN
-    if (std::isnan(r.tfar)) return false;
-    if (lengthSquared(r.d) == 0.f) return false;  // no direction, nothing to find
-    return true;
+    constexpr float kMaxFloat = std::numeric_limits<float>::max();
+    const bool origin = (std::fabs(ox) <= kMaxOrigin) & (std::fabs(oy) <= kMaxOrigin) & (std::fabs(oz) <= kMaxOrigin);
+    const bool direction = (std::fabs(dx) <= kMaxFloat) & (std::fabs(dy) <= kMaxFloat) & (std::fabs(dz) <= kMaxFloat);
+    const bool interval = (tnear >= 0.f) & (tfar == tfar);  // tnear >= 0 also rejects NaN; tfar may be infinite
+    const bool moves = dx * dx + dy * dy + dz * dz != 0.f;  // no direction, nothing to find
+    return origin & direction & interval & moves;
+}
+
+inline bool isValidRay(const Ray& r) {
+    return isValidRayComponents(r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tnear, r.tfar);
 }
 
 // ---------------------------------------------------------------------------

@@ -72,12 +72,22 @@ struct Disk {
 
 std::optional<PrimHit> intersect(const Sphere& s, const Ray& r);
 /// Inline: the accelerators test every plane against every ray.
+/// Distance t along o + t d to plane p within (tnear, tfar], or +infinity when
+/// there is none (parallel, behind a one-sided plane, outside the interval).
+/// Written on the ray's components without branches, so that a loop over the
+/// lanes of a ray packet vectorises; intersect(Plane, Ray) is this on one ray.
+inline float planeHitDistance(const Plane& p, float ox, float oy, float oz, float dx, float dy, float dz, float tnear,
+                              float tfar) {
+    const Vec3f& n = p.normal;
+    const float denom = dx * n.x + dy * n.y + dz * n.z;
+    const float t = ((p.point.x - ox) * n.x + (p.point.y - oy) * n.y + (p.point.z - oz) * n.z) / denom;
+    const bool faces = p.twoSided | (denom < 0.f);
+    const bool hit = faces & (std::fabs(denom) > 0.f) & (std::fabs(t) < kInfinity) & (t > tnear) & (t <= tfar);
+    return hit ? t : kInfinity;
+}
 inline std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
-    const float denom = dot(r.d, p.normal);
-    if (!p.twoSided && denom >= 0.f) return std::nullopt;
-    if (!(std::fabs(denom) > 0.f)) return std::nullopt;
-    const float t = dot(p.point - r.o, p.normal) / denom;
-    if (!std::isfinite(t) || !(t > r.tnear && t <= r.tfar)) return std::nullopt;
+    const float t = planeHitDistance(p, r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tnear, r.tfar);
+    if (t == kInfinity) return std::nullopt;
     return PrimHit{t, 0.f, 0.f};
 }
 std::optional<PrimHit> intersect(const Box& b, const Ray& r);

@@ -111,8 +111,14 @@ PreparedObj prepareObj(std::string_view text) {
                     }
                     f += ' ';
                     f += fixComponent(comp[0], nv);
-                    if (hasVt) f += "/" + fixComponent(comp[1], nvt);
-                    if (hasVn) f += (hasVt ? "/" : "//") + fixComponent(comp[2], nvn);
+                    if (hasVt) {
+                        f += '/';
+                        f += fixComponent(comp[1], nvt);
+                    }
+                    if (hasVn) {
+                        f += hasVt ? "/" : "//";
+                        f += fixComponent(comp[2], nvn);
+                    }
                 }
                 out.text += f;
                 out.faceLines.push_back(lineNo);

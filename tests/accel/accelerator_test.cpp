@@ -165,6 +165,26 @@ TEST_P(EachAccelerator, InvalidRaysAreCountedMissesWithEmbreeToo) {
         EXPECT_FALSE(acc->intersect(Ray{{0.f, 0.f, 10.f}, {0.f, 0.f, -1.f}, 5.f, 1.f})) << acc->name();
         EXPECT_FALSE(acc->occluded(Ray{{0.f, 0.f, 10.f}, {0.f, 0.f, -1.f}, 0.f, 0.f})) << acc->name();
         EXPECT_EQ(acc->invalidRayCount(), 3 * invalid.size()) << acc->name();
+
+        // The packet paths (their validity tests run over the lanes as arrays): each invalid
+        // kind in a packet beside valid rays that hit, as 16, 8 and 4 lanes.
+        for (const size_t width : {16u, 8u, 4u}) {
+            for (const Ray& bad : invalid) {
+                std::vector<Ray> rays(width, ok);
+                rays[width / 2] = bad;
+                std::vector<std::optional<PrimIntersection>> hits(width);
+                std::vector<uint8_t> blocked(width, 7);
+                const uint64_t before = acc->invalidRayCount();
+                acc->intersectPrimBatch(rays, hits);
+                acc->occludedBatch(rays, blocked);
+                EXPECT_EQ(acc->invalidRayCount() - before, 2u) << acc->name() << " width " << width;
+                for (size_t l = 0; l < width; ++l) {
+                    const bool isBad = l == width / 2;
+                    EXPECT_EQ(hits[l].has_value(), !isBad) << acc->name() << " width " << width << " lane " << l;
+                    EXPECT_EQ(blocked[l], isBad ? 0 : 1) << acc->name() << " width " << width << " lane " << l;
+                }
+            }
+        }
     }
 }
 

@@ -2,6 +2,8 @@
 // row 0 is the top row, the vertical field of view is given in degrees.
 #pragma once
 
+#include <span>
+
 #include "core/math.h"
 #include "core/ray.h"
 
@@ -21,17 +23,27 @@ public:
     /// Ray through film position (px, py) in pixels (continuous: pixel (x, y)
     /// covers [x, x+1) x [y, y+1)), with lens sample uLens in [0,1)^2.
     Ray generateRay(float px, float py, Vec2f uLens) const {
-        // Film coordinates in [-1, 1]; y grows downwards on the film, up in the world.
-        const float sx = (px * invWidth2_ - 1.f) * halfWidth_;
-        const float sy = (1.f - py * invHeight2_) * halfHeight_;
-        const Vec3f dir = sx * u_ + sy * v_ - w_;
+        const Vec3f dir = filmDirection(px, py);
         if (desc_.aperture <= 0.f) return Ray{desc_.eye, normalize(dir), 0.f, kInfinity};
         return lensRay(dir, uLens);
     }
 
+    /// generateRay for each film position film[i] (pixels) and lens sample
+    /// lens[i], the same rays. A pinhole camera's are made in loops over the
+    /// batch that vectorise (the square roots and divisions of the rays
+    /// overlap); lens may be empty for a pinhole camera.
+    void generateRays(std::span<const Vec2f> film, std::span<const Vec2f> lens, std::span<Ray> out) const;
+
     const CameraDesc& desc() const { return desc_; }
 
 private:
+    /// The unnormalised direction through film position (px, py): film
+    /// coordinates in [-1, 1]; y grows downwards on the film, up in the world.
+    Vec3f filmDirection(float px, float py) const {
+        const float sx = (px * invWidth2_ - 1.f) * halfWidth_;
+        const float sy = (1.f - py * invHeight2_) * halfHeight_;
+        return sx * u_ + sy * v_ - w_;
+    }
     Ray lensRay(const Vec3f& dir, Vec2f uLens) const;
 
     CameraDesc desc_;

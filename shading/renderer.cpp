@@ -131,6 +131,7 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
         pixelSet[i].emplace(spp, setPattern(pixelKey[i], 0, kPixelDimension), tabulate);
         if (c.useLens) lensSet[i].emplace(spp, setPattern(pixelKey[i], 0, kLensDimension), tabulate);
     }
+    Vec2f film[kMax], lens[kMax];
     Ray rays[kMax];
     std::optional<Hit> hits[kMax];
     SampleKey keys[kMax];
@@ -141,10 +142,13 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
         if (c.cancelled()) return false;
         for (size_t i = 0; i < count; ++i) {
             const Vec2f u = pixelSet[i]->sample(s);
-            const Vec2f uLens = c.useLens ? lensSet[i]->sample(s) : Vec2f{0.5f, 0.5f};
-            rays[i] = c.camera.generateRay(float(b.x0 + int(i) % bw) + u.x, float(b.y0 + int(i) / bw) + u.y, uLens);
+            film[i] = Vec2f{float(b.x0 + int(i) % bw) + u.x, float(b.y0 + int(i) / bw) + u.y};
+            if (c.useLens) lens[i] = lensSet[i]->sample(s);
             keys[i] = SampleKey{pixelKey[i], s};
         }
+        c.camera.generateRays(std::span<const Vec2f>(film, count),
+                              c.useLens ? std::span<const Vec2f>(lens, count) : std::span<const Vec2f>(),
+                              std::span<Ray>(rays, count));
         c.prepared.accelerator().intersectBatch(std::span<const Ray>(rays, count),
                                                 std::span<std::optional<Hit>>(hits, count));
         const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();

@@ -71,7 +71,6 @@ struct Disk {
 };
 
 std::optional<PrimHit> intersect(const Sphere& s, const Ray& r);
-/// Inline: the accelerators test every plane against every ray.
 /// Distance t along o + t d to plane p within (tnear, tfar], or +infinity when
 /// there is none (parallel, behind a one-sided plane, outside the interval).
 /// Written on the ray's components without branches, so that a loop over the
@@ -85,6 +84,7 @@ inline float planeHitDistance(const Plane& p, float ox, float oy, float oz, floa
     const bool hit = faces & (std::fabs(denom) > 0.f) & (std::fabs(t) < kInfinity) & (t > tnear) & (t <= tfar);
     return hit ? t : kInfinity;
 }
+/// Inline: the accelerators test every plane against every ray.
 inline std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
     const float t = planeHitDistance(p, r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tnear, r.tfar);
     if (t == kInfinity) return std::nullopt;

@@ -31,6 +31,7 @@
 
 #include "core/error.h"
 #include "core/io/gltf_checks.h"
+#include "core/io/off_checks.h"
 #include "core/io/mesh_options.h"
 #include "core/io/mtl_materials.h"
 
@@ -450,6 +451,7 @@ std::optional<std::string> knownProblem(const std::string& format, const std::st
     if (format == "ply") return plyHeaderProblem(bytes);
     if (format == "stl") return stlTextProblem(bytes);
     if (format == "gltf" || format == "glb") return gltfProblem(bytes);
+    if (format == "off") return offHeaderProblem(bytes);
     return std::nullopt;
 }
 

@@ -276,6 +276,46 @@ TEST(ModelFile, UnknownMalformedAndEmptyFilesAreErrorsNamingTheFile) {
     }
 }
 
+// Assimp 5.2.5's OFF reader allocates what the header's counts claim, and its
+// number parser wraps past 2^32 - 1: a 110-byte fuzz_model finding
+// (corpus_model/oom_off_count_wraps.off) made it ask for 32 GiB. The loader
+// refuses counts the file cannot hold first; valid headers (comments, blank
+// lines, the counts glued to OFF) still load.
+TEST(ModelFile, OffCountsTheFileCannotHoldAreRefusedBeforeAssimp) {
+    const fs::path dir = test::tempDir();
+    std::ifstream in(fs::path(PENUMBRA_SOURCE_DIR) / "tests" / "fuzz" / "corpus_model" / "oom_off_count_wraps.off",
+                     std::ios::binary);
+    std::stringstream seed;
+    seed << in.rdbuf();
+    ASSERT_GT(seed.str().size(), 1u);
+    struct Case {
+        const char* name;
+        std::string text;
+        const char* why;
+    };
+    const Case refused[] = {
+        {"wraps.off", seed.str().substr(1), "the header's vertex or face count does not fit in 32 bits"},
+        {"million.off", "OFF\n1000000 1 0\n0 0 0\n3 0 0 0\n",
+         "the header declares 1000000 vertices and 1 faces, more than the file's 5 lines can hold"},
+        {"faces.off", "OFF 3 4000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "declares 3 vertices and 4000000000 faces"},
+    };
+    for (const Case& c : refused) {
+        test::writeFile(dir / c.name, c.text);
+        const std::string err = errorOf(dir / c.name);
+        EXPECT_NE(err.find((dir / c.name).string()), std::string::npos) << c.name << ": " << err;
+        EXPECT_NE(err.find(c.why), std::string::npos) << c.name << ": " << err;
+    }
+    const std::string triangle = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    for (const std::string& header : {std::string("# made by hand\nOFF\n\n# counts\n3 1 0\n"), std::string("OFF3 1 0\n"),
+                                      std::string("3 1 0\n")}) {
+        SCOPED_TRACE(header);
+        const fs::path file = test::writeFile(dir / "ok.off", header + triangle);
+        Quiet q;
+        LoadedScene s = loadScene(file, {}, q.logger);
+        EXPECT_EQ(s.scene.triangleCount(), 1u);
+    }
+}
+
 // Assimp 5.2.5 leaks a data URI's decoded buffer when its base64 holds a byte
 // outside ASCII (a fuzz_model finding), and takes a string starting with U+0010
 // for a data URI; the loader refuses both first. The ASan suite reports the leak

@@ -19,11 +19,14 @@ size_t nextToken(const std::string& b, size_t at) {
 // without wrapping (saturated above 2^32), and where it ends.
 uint64_t digitsAt(const std::string& b, size_t& at) {
     uint64_t v = 0;
-    for (; at < b.size() && b[at] >= '0' && b[at] <= '9'; ++at) v = std::min<uint64_t>(v * 10 + uint64_t(b[at] - '0'), 1ULL << 33);
+    for (; at < b.size() && b[at] >= '0' && b[at] <= '9'; ++at)
+        v = std::min<uint64_t>(v * 10 + uint64_t(b[at] - '0'), 1ULL << 33);
     return v;
 }
 
-bool startsWith(const std::string& b, size_t at, const char* s) { return b.compare(at, std::char_traits<char>::length(s), s) == 0; }
+bool startsWith(const std::string& b, size_t at, const char* s) {
+    return b.compare(at, std::char_traits<char>::length(s), s) == 0;
+}
 
 }  // namespace
 
@@ -47,7 +50,8 @@ std::optional<std::string> offHeaderProblem(const std::string& bytes) {
     if (vertices > kMaxCount || faces > kMaxCount)
         return std::string("the header's vertex or face count does not fit in 32 bits");
     // Every vertex and face is a line of its own: a bound the file must meet.
-    const uint64_t lines = 1 + uint64_t(std::count_if(bytes.begin(), bytes.end(), [](char c) { return c == '\n' || c == '\r'; }));
+    const auto lineEnd = [](char c) { return c == '\n' || c == '\r'; };
+    const uint64_t lines = 1 + uint64_t(std::count_if(bytes.begin(), bytes.end(), lineEnd));
     if (vertices + faces > lines)
         return "the header declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
                " faces, more than the file's " + std::to_string(lines) + " lines can hold";

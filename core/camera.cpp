@@ -41,19 +41,16 @@ void Camera::generateRays(std::span<const Vec2f> film, std::span<const Vec2f> le
         for (size_t i = 0; i < film.size(); ++i) out[i] = generateRay(film[i].x, film[i].y, lens[i]);
         return;
     }
-    // Directions and their normalisation as arrays, then the rays: the same
-    // operations as normalize(filmDirection()) per ray, so the same values.
+    // Directions as arrays (a loop that vectorises), then the rays.
     constexpr size_t kChunk = 16;
     for (size_t b = 0; b < film.size(); b += kChunk) {
         const size_t n = std::min(kChunk, film.size() - b);
         float dx[kChunk], dy[kChunk], dz[kChunk];
         for (size_t i = 0; i < n; ++i) {
-            const Vec3f d = filmDirection(film[b + i].x, film[b + i].y);
-            const float l = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-            const float inv = 1.f / l;
-            dx[i] = l > 0.f ? d.x * inv : 0.f;
-            dy[i] = l > 0.f ? d.y * inv : 0.f;
-            dz[i] = l > 0.f ? d.z * inv : 0.f;
+            const Vec3f d = normalize(filmDirection(film[b + i].x, film[b + i].y));
+            dx[i] = d.x;
+            dy[i] = d.y;
+            dz[i] = d.z;
         }
         for (size_t i = 0; i < n; ++i) out[b + i] = Ray{desc_.eye, Vec3f{dx[i], dy[i], dz[i]}, 0.f, kInfinity};
     }

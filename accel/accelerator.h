@@ -15,6 +15,7 @@
 
 #include "core/hit.h"
 #include "core/ray.h"
+#include "core/ray_lanes.h"
 #include "core/scene.h"
 
 namespace penumbra {
@@ -57,6 +58,12 @@ public:
     /// out[i] = 1 when rays[i] is occluded, else 0.
     virtual void occludedBatch(std::span<const Ray> rays, std::span<uint8_t> out) const {
         for (size_t i = 0; i < rays.size(); ++i) out[i] = occluded(rays[i]) ? 1 : 0;
+    }
+    /// out[l] = 1 where lane l holds a ray (rays.active[l]) and it is
+    /// occluded, else 0: occluded() for rays given as lanes. Embree takes the
+    /// lanes' arrays as a 16-wide packet as they are.
+    virtual void occludedLanes(const RayLanes& rays, uint8_t* out) const {
+        for (int l = 0; l < RayLanes::kWidth; ++l) out[l] = rays.active[l] && occluded(rays.ray(l)) ? 1 : 0;
     }
     /// intersectPrimBatch followed by Scene::completeHit.
     void intersectBatch(std::span<const Ray> rays, std::span<std::optional<Hit>> out) const {

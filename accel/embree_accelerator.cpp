@@ -49,6 +49,7 @@
 #include "accel/embree_device.h"
 #include "accel/embree_packets.h"
 #include "core/error.h"
+#include "core/lane_clones.h"
 
 namespace penumbra {
 namespace {
@@ -350,11 +351,55 @@ public:
     template <int W>
     size_t occludedPacket(std::span<const Ray> rays, std::span<uint8_t> out) const {
         const int n = static_cast<int>(std::min<size_t>(W, rays.size()));
-        alignas(64) int valid[W];
         alignas(64) int ok[W];
-        alignas(64) int blocked[W];
         alignas(64) typename Packet<W>::RayOnly pr;
         loadLanes<W>(rays, n, pr, ok);
+        occludedLoaded<W>(pr, ok, n, out.data());
+        return size_t(n);
+    }
+
+    void occludedLanes(const RayLanes& rays, uint8_t* out) const override {
+        alignas(64) int ok[RayLanes::kWidth];
+        alignas(64) RTCRay16 pr;
+        loadRayLanes(rays, pr, ok);
+        occludedLoaded<RayLanes::kWidth>(pr, ok, RayLanes::kWidth, out);
+    }
+
+    // The lanes' arrays are the packet's: copies them in with the validity
+    // test and the idle lanes, as loadLanes does for rays given one by one.
+    PENUMBRA_LANE_CLONES void loadRayLanes(const RayLanes& rays, RTCRay16& pr, int* ok) const {
+        constexpr int W = RayLanes::kWidth;
+        int invalid = 0;
+        for (int l = 0; l < W; ++l) {
+            const int valid = isValidRayComponents(rays.ox[l], rays.oy[l], rays.oz[l], rays.dx[l], rays.dy[l],
+                                                   rays.dz[l], rays.tnear[l], rays.tfar[l]);
+            ok[l] = rays.active[l] & valid;
+            invalid += rays.active[l] & (1 - valid);
+        }
+        if (invalid > 0) countInvalidRays(uint64_t(invalid));
+        for (int l = 0; l < W; ++l) {
+            const bool use = ok[l] != 0;
+            pr.org_x[l] = use ? rays.ox[l] : kIdleLane.o.x;
+            pr.org_y[l] = use ? rays.oy[l] : kIdleLane.o.y;
+            pr.org_z[l] = use ? rays.oz[l] : kIdleLane.o.z;
+            pr.dir_x[l] = use ? rays.dx[l] : kIdleLane.d.x;
+            pr.dir_y[l] = use ? rays.dy[l] : kIdleLane.d.y;
+            pr.dir_z[l] = use ? rays.dz[l] : kIdleLane.d.z;
+            pr.tnear[l] = use ? rays.tnear[l] : kIdleLane.tnear;
+            pr.tfar[l] = use ? rays.tfar[l] : kIdleLane.tfar;
+            pr.time[l] = 0.f;
+            pr.mask[l] = ~0u;
+            pr.id[l] = static_cast<unsigned>(l);
+            pr.flags[l] = 0;
+        }
+    }
+
+    // The occlusion query of a loaded packet whose valid lanes ok[] marks
+    // (the others hold the idle ray); writes the first n answers.
+    template <int W>
+    void occludedLoaded(typename Packet<W>::RayOnly& pr, const int* ok, int n, uint8_t* out) const {
+        alignas(64) int valid[W];
+        alignas(64) int blocked[W];
         // The open interval (tnear, tfar), as in occluded(): every test here
         // accepts t <= tfar, so ask for the float just below tfar.
         for (int l = 0; l < W; ++l) pr.tfar[l] = nextFloatDown(pr.tfar[l]);
@@ -371,13 +416,12 @@ public:
             any |= valid[l];
         }
         for (int l = 0; l < n; ++l) out[l] = static_cast<uint8_t>(blocked[l]);
-        if (!any) return size_t(n);
+        if (!any) return;
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         Packet<W>::occluded(valid, rtcScene_.get(), &ctx, &pr);
         for (int l = 0; l < n; ++l)
             if (valid[l] && pr.tfar[l] == -kInfinity) out[l] = 1;
-        return size_t(n);
     }
 
     // Filler for inactive packet lanes: a harmless ray Embree never traces.

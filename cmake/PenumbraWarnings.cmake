@@ -27,4 +27,8 @@ function(penumbra_module name)
   # branch, and loops over the lanes of a ray packet (validity, planes,
   # selects) do not vectorise. Results are the same IEEE values.
   target_compile_options(${name} PRIVATE -fno-trapping-math)
+  # a * b + c stays two roundings, never one fused multiply-add: the lane
+  # loops are also compiled for CPUs with FMA (core/lane_clones.h), and every
+  # copy must give the values of the baseline build, bit for bit.
+  target_compile_options(${name} PRIVATE -ffp-contract=off)
 endfunction()

@@ -51,6 +51,17 @@ inline uint32_t reverseBits(uint32_t x) {
            uint32_t(t[x >> 24]);
 }
 
+/// reverseBits by swapping ever larger groups of bits: the same values, and
+/// in a loop over lanes it vectorises (a table lookup per byte would not;
+/// one value at a time, the table is faster).
+inline uint32_t reverseBitsBySwaps(uint32_t x) {
+    x = ((x >> 1) & 0x55555555U) | ((x & 0x55555555U) << 1);
+    x = ((x >> 2) & 0x33333333U) | ((x & 0x33333333U) << 2);
+    x = ((x >> 4) & 0x0f0f0f0fU) | ((x & 0x0f0f0f0fU) << 4);
+    x = ((x >> 8) & 0x00ff00ffU) | ((x & 0x00ff00ffU) << 8);
+    return (x >> 16) | (x << 16);
+}
+
 // A random permutation of 32-bit values in which each bit is flipped as a
 // function of the bits below it only (carries and multiplication by even
 // constants move information upwards): applied to bit-reversed values it is
@@ -99,6 +110,30 @@ inline uint32_t sobolSecondReversed(uint32_t i) {
     return t[0][i & 0xffU] ^ t[1][(i >> 8) & 0xffU] ^ t[2][(i >> 16) & 0xffU] ^ t[3][i >> 24];
 }
 
+/// sobolSecondReversed as the xor of the matrix's reversed columns that the
+/// set bits of i select: the same values, and a loop over lanes of it
+/// vectorises (table lookups would be taken lane by lane).
+struct SobolSecondColumns {
+    uint32_t v[32];
+    constexpr SobolSecondColumns() : v{} {
+        uint32_t c = 0x80000000U;
+        for (int j = 0; j < 32; ++j) {
+            uint32_t r = 0;  // reverseBits, spelled out for constexpr
+            for (int k = 0; k < 32; ++k) r |= ((c >> k) & 1U) << (31 - k);
+            v[j] = r;
+            c ^= c >> 1;
+        }
+    }
+};
+inline constexpr SobolSecondColumns kSobolSecondColumnsReversed{};
+
+inline uint32_t sobolSecondReversedByColumns(uint32_t i) {
+    uint32_t y = 0;
+#pragma GCC unroll 32
+    for (int j = 0; j < 32; ++j) y ^= (0U - ((i >> j) & 1U)) & kSobolSecondColumnsReversed.v[j];
+    return y;
+}
+
 /// Second Sobol dimension of index i, as a 0.32 fixed-point value.
 inline uint32_t sobolSecond(uint32_t i) { return reverseBits(sobolSecondReversed(i)); }
 
@@ -115,7 +150,7 @@ inline float fixedToUnit(uint32_t x) { return static_cast<float>(static_cast<int
 class OwenSobol2D {
 public:
     explicit OwenSobol2D(uint64_t key) {
-        const uint64_t h = mix64(key ^ 0x3c6ef372fe94f82bULL), g = mix64(h ^ 0xa54ff53a5f1d36f1ULL);
+        const uint64_t h = mix64(key ^ kKeySalt), g = mix64(h ^ kSecondSalt);
         shuffle_ = static_cast<uint32_t>(h);
         scrambleX_ = static_cast<uint32_t>(h >> 32);
         scrambleY_ = static_cast<uint32_t>(g);
@@ -156,7 +191,13 @@ public:
         for (uint32_t k = 0; k < count; ++k) out[k] = point(index * n + first + k);
     }
 
+    /// For each lane l < n: OwenSobol2D(keys[l]).point(indices[l]) as x[l],
+    /// y[l], the same values, as loops over the lanes (core/owen_sobol.cpp).
+    static void pointLanes(const uint64_t* keys, const uint32_t* indices, int n, float* x, float* y);
+
 private:
+    static constexpr uint64_t kKeySalt = 0x3c6ef372fe94f82bULL, kSecondSalt = 0xa54ff53a5f1d36f1ULL;
+
     // The point of shuffled index i.
     [[gnu::always_inline]] Vec2f shuffledPoint(uint32_t i) const {
         const uint32_t x = detail::reverseBits(detail::upwardHash(i, scrambleX_));

@@ -1,8 +1,11 @@
 #include "lights/area_light.h"
 
 #include <algorithm>
+#include <bit>
 
+#include "core/lane_clones.h"
 #include "core/sampling.h"
+#include "lights/light_lanes.h"
 #include "lights/spherical_cap.h"
 #include "lights/spherical_rectangle.h"
 #include "lights/spherical_triangle.h"
@@ -118,27 +121,102 @@ std::optional<LightSample> ShapeAreaLight::sample(const Vec3f& p, Vec2f u) const
     return sampleArea(p, u);
 }
 
-void ShapeAreaLight::sampleEach(std::span<const Vec3f> p, std::span<const Vec2f> u,
-                                std::span<std::optional<LightSample>> out) const {
-    if (kind_ != Kind::Rectangle) {
-        Light::sampleEach(p, u, out);
-        return;
+void ShapeAreaLight::mayReachLanes(const LanePoints& at, int n, int32_t* reach) const {
+    if (kind_ == Kind::Rectangle) {
+        rectangleReachLanes(at, n, reach);
+    } else {
+        Light::mayReachLanes(at, n, reach);
     }
-    // What sample() gives at each point, in two passes: the points near enough
-    // for a spherical rectangle one by one (each has its own set-up), then the
-    // others by area in a loop without calls, where the square root and the
-    // two divisions of one point overlap with those of the next.
-    constexpr size_t kChunk = 64;
-    for (size_t b = 0; b < p.size(); b += kChunk) {
-        const size_t n = std::min(kChunk, p.size() - b);
-        uint8_t byArea[kChunk];
-        for (size_t k = b; k < b + n; ++k) {
-            const auto sr = emitsTowards(p[k]) ? sphericalRectangleAt(p[k]) : std::nullopt;
-            if (sr) out[k] = solidAngleSample(p[k], sr->sample(u[k]), sr->solidAngle(), Le_);
-            byArea[k - b] = sr ? 0 : 1;
-        }
-        for (size_t k = b; k < b + n; ++k)
-            if (byArea[k - b]) out[k] = rectangleAreaSample(p[k], u[k]);
+}
+
+PENUMBRA_LANE_CLONES void ShapeAreaLight::rectangleReachLanes(const LanePoints& at, int n, int32_t* reach) const {
+    // mayReach's rectangle test and emitsTowards, written out on the lanes' arrays.
+    const Vec3f c = corner_, ea = edgeA_, eb = edgeB_, fn = frame_.n;
+    const int32_t twoSided = twoSided_ ? 1 : 0;
+    for (int l = 0; l < n; ++l) {
+        const float px = at.px[l], py = at.py[l], pz = at.pz[l], nx = at.nx[l], ny = at.ny[l], nz = at.nz[l];
+        const float h = (c.x - px) * nx + (c.y - py) * ny + (c.z - pz) * nz;
+        const float ha = ea.x * nx + ea.y * ny + ea.z * nz, hb = eb.x * nx + eb.y * ny + eb.z * nz;
+        const int32_t front = fn.x * (px - c.x) + fn.y * (py - c.y) + fn.z * (pz - c.z) > 0.f;
+        const float top = h + (ha < 0.f ? 0.f : ha) + (hb < 0.f ? 0.f : hb);
+        reach[l] = (twoSided | front) & (top > 0.f);
+    }
+}
+
+void ShapeAreaLight::sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
+                                 LightLanes& out) const {
+    if (kind_ == Kind::Rectangle) {
+        rectangleSampleLanes(at, ux, uy, want, n, out);
+    } else {
+        Light::sampleLanes(at, ux, uy, want, n, out);
+    }
+}
+
+PENUMBRA_LANE_CLONES void ShapeAreaLight::rectangleSampleLanes(const LanePoints& at, const float* ux, const float* uy,
+                                                               const int32_t* want, int n, LightLanes& out) const {
+    // What sample() gives at each lane, in three passes: which points are near
+    // enough for a spherical rectangle, and every lane's area sample, as loops
+    // over the lanes; then the near points' spherical samples one by one (each
+    // has its own set-up). Each pass computes what sample() computes, in its order.
+    constexpr int W = LanePoints::kWidth;
+    const Vec3f c = corner_, ea = edgeA_, eb = edgeB_, fn = frame_.n, bc = boundCenter_;
+    const int32_t twoSided = twoSided_ ? 1 : 0;
+    // subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound), without its branches.
+    const float r2 = boundRadius2_;
+    const float cosOmega = 1.f - kSolidAngleSamplingMinBound * kInv2Pi;
+    const float sin2Omega = 1.f - cosOmega * cosOmega;
+    alignas(64) int32_t near[W];
+    int anyNear = 0;
+    for (int l = 0; l < n; ++l) {
+        const float px = at.px[l], py = at.py[l], pz = at.pz[l];
+        const int32_t front = fn.x * (px - c.x) + fn.y * (py - c.y) + fn.z * (pz - c.z) > 0.f;
+        const float bx = bc.x - px, by = bc.y - py, bz = bc.z - pz;
+        const float d2 = bx * bx + by * by + bz * bz;
+        const int32_t subtends = int32_t(!(d2 > r2)) | ((cosOmega > 0.f) & (r2 >= sin2Omega * d2));
+        near[l] = want[l] & (twoSided | front) & subtends & int32_t(orthogonalEdges_);
+        anyNear |= near[l];
+    }
+    // rectangleAreaSample, i.e. areaLightSample at corner_ + u.x edgeA_ + u.y edgeB_.
+    const float pdfArea = pdfArea_;
+    const uint32_t signMask = twoSided_ ? 0x7fffffffu : 0xffffffffu;
+    const float Lr = Le_.r, Lg = Le_.g, Lb = Le_.b;
+    for (int l = 0; l < n; ++l) {
+        const float qx = c.x + ux[l] * ea.x + uy[l] * eb.x;
+        const float qy = c.y + ux[l] * ea.y + uy[l] * eb.y;
+        const float qz = c.z + ux[l] * ea.z + uy[l] * eb.z;
+        const float dx = qx - at.px[l], dy = qy - at.py[l], dz = qz - at.pz[l];
+        const float dist2 = dx * dx + dy * dy + dz * dz;
+        const float dist = std::sqrt(dist2);
+        const float inv = 1.f / dist;
+        const float wx = dx * inv, wy = dy * inv, wz = dz * inv;
+        // std::fabs where the emitter is two-sided, as the sign bit cleared by a
+        // mask (a select on twoSided would keep this loop from vectorising).
+        const float cosLight =
+            std::bit_cast<float>(std::bit_cast<uint32_t>(-(fn.x * wx + fn.y * wy + fn.z * wz)) & signMask);
+        const float pdf = pdfArea * dist2 / cosLight;
+        const int32_t ok = (dist2 > 0.f) & (pdfArea > 0.f) & (cosLight > 0.f) & (std::fabs(pdf) < kInfinity) &
+                           (pdf > 0.f);
+        out.ok[l] = want[l] & ok;
+        out.wx[l] = wx;
+        out.wy[l] = wy;
+        out.wz[l] = wz;
+        out.qx[l] = qx;
+        out.qy[l] = qy;
+        out.qz[l] = qz;
+        out.distance[l] = dist;
+        out.pdf[l] = pdf;
+        out.Lr[l] = Lr;
+        out.Lg[l] = Lg;
+        out.Lb[l] = Lb;
+    }
+    // The near points' spherical samples replace their area samples.
+    if (!anyNear) return;
+    for (int l = 0; l < n; ++l) {
+        if (!near[l]) continue;
+        const Vec3f p = at.p(l);
+        const SphericalRectangle sr(p, corner_, edgeA_, edgeB_);
+        if (sr.solidAngle() < kSphericalMinSolidAngle) continue;  // too small after all: by area
+        out.set(l, solidAngleSample(p, sr.sample(Vec2f{ux[l], uy[l]}), sr.solidAngle(), Le_));
     }
 }
 

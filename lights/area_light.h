@@ -46,8 +46,9 @@ public:
     ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index);
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     void sampleMany(const Vec3f& p, std::span<const Vec2f> u, std::span<std::optional<LightSample>> out) const override;
-    void sampleEach(std::span<const Vec3f> p, std::span<const Vec2f> u,
-                    std::span<std::optional<LightSample>> out) const override;
+    void mayReachLanes(const LanePoints& at, int n, int32_t* reach) const override;
+    void sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
+                     LightLanes& out) const override;
     float pdf(const Vec3f& p, const Hit& onLight) const override;
     std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
     bool mayReach(const Vec3f& p, const Vec3f& n) const override;
@@ -62,6 +63,10 @@ private:
     /// A point uniform in the rectangle's area, as a light sample from p.
     std::optional<LightSample> rectangleAreaSample(const Vec3f& p, Vec2f u) const;
     bool emitsTowards(const Vec3f& p) const;
+    /// mayReachLanes and sampleLanes of a rectangle: loops over the lanes.
+    void rectangleReachLanes(const LanePoints& at, int n, int32_t* reach) const;
+    void rectangleSampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
+                              LightLanes& out) const;
 
     const Scene& scene_;
     Kind kind_;

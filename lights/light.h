@@ -2,6 +2,7 @@
 // emitters are also ordinary geometry that camera and mirror rays see.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <span>
 
@@ -10,6 +11,9 @@
 #include "core/math.h"
 
 namespace penumbra {
+
+struct LanePoints;  // lights/light_lanes.h
+struct LightLanes;
 
 /// One light sample as seen from a shading point.
 struct LightSample {
@@ -39,14 +43,16 @@ public:
     virtual void sampleMany(const Vec3f& p, std::span<const Vec2f> u, std::span<std::optional<LightSample>> out) const {
         for (size_t k = 0; k < u.size(); ++k) out[k] = sample(p, u[k]);
     }
-    /// out[k] = sample(p[k], u[k]) for every k: one sample at each of many
-    /// shading points (the lanes of a batch). Lights whose sample is a short
-    /// chain of square roots and divisions take them in one loop, so that the
-    /// chains of different points overlap.
-    virtual void sampleEach(std::span<const Vec3f> p, std::span<const Vec2f> u,
-                            std::span<std::optional<LightSample>> out) const {
-        for (size_t k = 0; k < p.size(); ++k) out[k] = sample(p[k], u[k]);
-    }
+    /// reach[l] = mayReach(at.p(l), at.n(l)) for the first n lanes, 1 or 0.
+    /// Defined in lights/light_lanes.cpp, as is sampleLanes.
+    virtual void mayReachLanes(const LanePoints& at, int n, int32_t* reach) const;
+    /// One sample at each of the first n lanes' points where want[l] is set:
+    /// out.set(l, sample(at.p(l), {ux[l], uy[l]})), the same values; where
+    /// want[l] is 0, out.ok[l] = 0. Lights whose sample is a short chain of
+    /// square roots and divisions take it as loops over the lanes. Not for
+    /// delta lights (LightLanes has no delta flag).
+    virtual void sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
+                             LightLanes& out) const;
     /// The estimator before solid-angle sampling: points uniform in area
     /// (--direct-light area, for comparisons). Same as sample() unless overridden.
     virtual std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const { return sample(p, u); }

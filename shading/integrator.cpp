@@ -7,6 +7,7 @@
 #include "shading/mis.h"
 #include "shading/phong.h"
 #include "shading/phong_sampling.h"
+#include "shading/shadow_lanes.h"
 
 #include <algorithm>
 #include <array>
@@ -96,22 +97,12 @@ public:
     ShadowQueue(const Accelerator& accel, RayCounts& counts, Rgb* sums, float nLight = 1.f, float nBrdf = 1.f)
         : accel_(accel), counts_(counts), sums_(sums), nLight_(nLight), nBrdf_(nBrdf) {}
 
-    /// lightPdf: the light-sampling pdf of the sample's direction (its solid
-    /// angle pdf times the light's selection probability); mis: weigh it
-    /// against the lane's BRDF samples with the power heuristic.
+    /// scale, lightPdf, mis: as in shadowSampleWeight.
     void add(size_t lane, const ShadingPoint& sp, const LightSample& ls, float scale, float lightPdf, bool mis) {
-        if (dot(ls.wi, sp.ng) <= 0.f) return;  // below the geometric surface
-        Rgb f;
-        if (mis && !ls.delta) {
-            const PhongSample e = phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi);
-            f = e.fCos;
-            scale *= powerHeuristic(nLight_, lightPdf, nBrdf_, e.pdf);
-        } else {
-            f = phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi, ls.delta);
-        }
-        if (f.isBlack()) return;
+        Rgb weight;
+        if (!shadowSampleWeight(sp, ls, scale, lightPdf, mis, nLight_, nBrdf_, weight)) return;
         rays_[pending_] = std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point);
-        weights_[pending_] = f * ls.L * (scale / ls.pdf);
+        weights_[pending_] = weight;
         lanes_[pending_] = static_cast<uint8_t>(lane);
         if (++pending_ == kPacket) flush();
     }
@@ -273,6 +264,8 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
     // pixel's sequence (dimensionSequence), stratified per shading point and
     // across the pixel's camera samples.
     const bool power = settings_.lightSelection == LightSelection::Power;
+    ShadowLanes shadowLanes;  // the lit lanes' shading points, gathered on first use
+    bool shadowLanesSet = false;
     if (!power) {
         for (size_t j = 0; j < nLights; ++j) {
             const Light& light = lights_[j];
@@ -288,27 +281,28 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                 continue;
             }
             if (n == 1 && !area) {
-                // One sample per lane: the lanes' samples in one call (Light::sampleEach), so
-                // that their square roots and divisions overlap instead of queueing one lane
-                // after another; queued in lane order, as below.
-                ScratchArray<Vec3f, kMaxBatch> points;
-                ScratchArray<Vec2f, kMaxBatch> us;
-                uint8_t who[kMaxBatch];
-                size_t m = 0;
-                for (size_t q = 0; q < nLit; ++q) {
-                    const PathLane& lane = lanes[lit[q]];
-                    if (!light.mayReach(lane.sp.p, lane.sp.ng)) continue;  // every sample would be discarded
-                    points[m] = lane.sp.p;
-                    us[m] = dimensionSequence(lane.key, dim).point(lane.key.index);
-                    who[m++] = lit[q];
+                // One sample per lane: every step over the lanes as arrays (shading/shadow_lanes.h).
+                static_assert(kMaxBatch <= size_t(ShadowLanes::kWidth), "a batch's lanes fit one packet");
+                if (!shadowLanesSet) {
+                    for (size_t q = 0; q < nLit; ++q) shadowLanes.setLane(int(q), lanes[lit[q]].sp, mis[lit[q]]);
+                    shadowLanesSet = true;
                 }
-                std::optional<LightSample> ls[kMaxBatch];  // constructed: sampleEach assigns to them
-                light.sampleEach(std::span<const Vec3f>(points.data(), m), std::span<const Vec2f>(us.data(), m),
-                                 std::span<std::optional<LightSample>>(ls, m));
-                for (size_t c = 0; c < m; ++c)
-                    if (ls[c]) queue.add(who[c], lanes[who[c]].sp, *ls[c], 1.f, ls[c]->pdf, mis[who[c]]);
-                queue.flush();
-                for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]] * invN;
+                alignas(64) int32_t reach[kMaxBatch];
+                alignas(64) uint64_t keys[kMaxBatch];
+                alignas(64) uint32_t indices[kMaxBatch];
+                alignas(64) float ux[kMaxBatch], uy[kMaxBatch];
+                light.mayReachLanes(shadowLanes.points(), int(nLit), reach);
+                for (size_t q = 0; q < nLit; ++q) {
+                    keys[q] = dimensionKey(lanes[lit[q]].key, dim);
+                    indices[q] = lanes[lit[q]].key.index;
+                }
+                // Every lane's point, also where it is not needed: one loop, no branches.
+                OwenSobol2D::pointLanes(keys, indices, int(nLit), ux, uy);
+                LightLanes samples;
+                light.sampleLanes(shadowLanes.points(), ux, uy, reach, int(nLit), samples);
+                ScratchArray<Rgb, kMaxBatch> added;
+                counts.shadow += shadowLanes.trace(samples, int(nLit), float(n), float(nBrdf), accel_, added.data());
+                for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += added[q] * invN;
                 continue;
             }
             for (size_t q = 0; q < nLit; ++q) {

@@ -71,9 +71,10 @@ struct SampleKey {
 /// Owen-scrambled Sobol sequence for that dimension (core/owen_sobol.h), so
 /// each shading point's n points are stratified and so are all spp * n of
 /// the pixel.
-inline OwenSobol2D dimensionSequence(const SampleKey& key, uint32_t dim) {
-    return OwenSobol2D(key.pixelKey ^ ((uint64_t(dim) + 1) * 0x9e3779b97f4a7c15ULL));
+inline uint64_t dimensionKey(const SampleKey& key, uint32_t dim) {
+    return key.pixelKey ^ ((uint64_t(dim) + 1) * 0x9e3779b97f4a7c15ULL);
 }
+inline OwenSobol2D dimensionSequence(const SampleKey& key, uint32_t dim) { return OwenSobol2D(dimensionKey(key, dim)); }
 
 /// Radiance a ray leaving the scene along `dir` sees: the environment light
 /// when the scene has one (lights.environment()), else Scene::background. The

@@ -188,6 +188,47 @@ TEST_P(EachAccelerator, InvalidRaysAreCountedMissesWithEmbreeToo) {
     }
 }
 
+TEST_P(EachAccelerator, RayLanesAnswerAsOccludedDoesAndIdleLanesAreNotCounted) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    Scene scene = smallScene();
+    const auto acc = makeAccelerator(GetParam(), scene);
+    // Rays towards every shape, past them, short of them, across the plane, and two invalid ones.
+    std::vector<Ray> rays;
+    for (const Vec3f target : {Vec3f{-3, 0, 0}, Vec3f{0, 0, 0}, Vec3f{3, 0, 0}, Vec3f{0, 3, 0}, Vec3f{0, -3, 0}})
+        for (const float far : {3.f, 9.5f, 20.f}) rays.push_back(Ray{{0, 0, 10}, normalize(target - Vec3f{0, 0, 10}), 0.f, far});
+    rays.push_back(Ray{{8, 8, 10}, {0, 0, -1}, 0.f, kInfinity});        // only the plane
+    rays.push_back(Ray{{8, 8, 10}, {0, 0, 1}, 0.f, kInfinity});         // nothing
+    rays.push_back(Ray{{nan, 0, 10}, {0, 0, -1}, 0.f, kInfinity});       // invalid
+    rays.push_back(Ray{{0, 0, 10}, {0, 0, 0}, 0.f, kInfinity});          // invalid: no direction
+    ASSERT_GT(rays.size(), size_t(RayLanes::kWidth));
+    // Every ray in every lane position, with idle lanes between them.
+    for (size_t first = 0; first < rays.size(); first += 3) {
+        RayLanes lanes;
+        std::vector<int> index(RayLanes::kWidth, -1);
+        for (int l = 0; l < RayLanes::kWidth; ++l) {
+            lanes.active[l] = l % 4 != 3;
+            index[l] = lanes.active[l] ? int((first + size_t(l)) % rays.size()) : -1;
+            // Idle lanes hold garbage that must not be read, counted or traced.
+            lanes.set(l, lanes.active[l] ? rays[size_t(index[l])] : Ray{{nan, nan, nan}, {0, 0, 0}, -1.f, nan});
+        }
+        alignas(64) uint8_t out[RayLanes::kWidth];
+        std::fill(out, out + RayLanes::kWidth, uint8_t(7));
+        uint64_t expectedInvalid = 0;
+        for (int l = 0; l < RayLanes::kWidth; ++l)
+            if (index[l] >= 0) expectedInvalid += isValidRay(rays[size_t(index[l])]) ? 0 : 1;
+        const uint64_t before = acc->invalidRayCount();
+        acc->occludedLanes(lanes, out);
+        EXPECT_EQ(acc->invalidRayCount() - before, expectedInvalid) << acc->name();
+        int blocked = 0;
+        for (int l = 0; l < RayLanes::kWidth; ++l) {
+            const bool want = index[l] >= 0 && acc->occluded(rays[size_t(index[l])]);
+            EXPECT_EQ(out[l], want ? 1 : 0) << acc->name() << " lane " << l;
+            blocked += out[l];
+        }
+        EXPECT_GT(blocked, 0);
+    }
+}
+
 // Shoots rays at a scene ~1e4 from the origin, then a secondary ray from each
 // hit (spawnRay: reflected away from the surface) and a shadow ray towards a
 // point outside; a convex object must never be hit again by either.

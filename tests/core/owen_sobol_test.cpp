@@ -138,6 +138,38 @@ TEST(OwenSobol, ReverseBitsReversesEveryBit) {
         for (uint32_t k = 0; k < 32; ++k) naive |= ((x >> k) & 1u) << (31 - k);
         ASSERT_EQ(detail::reverseBits(x), naive) << x;
         ASSERT_EQ(detail::reverseBits(detail::reverseBits(x)), x);
+        ASSERT_EQ(detail::reverseBitsBySwaps(x), naive) << x;
+    }
+}
+
+TEST(OwenSobol, SecondDimensionByColumnsIsTheTables) {
+    // The generator matrix's columns v_0 = 2^31, v_{j+1} = v_j ^ (v_j >> 1), reversed.
+    for (uint32_t j = 0; j < 32; ++j) EXPECT_EQ(detail::sobolSecondReversedByColumns(1u << j), detail::sobolSecondReversed(1u << j));
+    uint64_t state = 7;
+    for (int i = 0; i < 10000; ++i) {
+        state = mix64(state + 0x9e3779b97f4a7c15ULL);
+        const uint32_t x = static_cast<uint32_t>(state);
+        ASSERT_EQ(detail::sobolSecondReversedByColumns(x), detail::sobolSecondReversed(x)) << x;
+        ASSERT_EQ(detail::sobolSecondReversedByColumns(uint32_t(i)), detail::sobolSecondReversed(uint32_t(i))) << i;
+    }
+}
+
+TEST(OwenSobol, PointLanesArePointsBitForBit) {
+    // 16 lanes and a partial batch, each with its own key and index (as a batch's lanes have).
+    for (const int n : {16, 11, 1}) {
+        uint64_t keys[16];
+        uint32_t indices[16];
+        for (int l = 0; l < n; ++l) {
+            keys[l] = mix64(uint64_t(l) * 977 + uint64_t(n));
+            indices[l] = l == 0 ? 0u : l == 1 ? ~0u : uint32_t(mix64(uint64_t(l) + 3) >> 40);
+        }
+        float x[16], y[16];
+        OwenSobol2D::pointLanes(keys, indices, n, x, y);
+        for (int l = 0; l < n; ++l) {
+            const Vec2f p = OwenSobol2D(keys[l]).point(indices[l]);
+            EXPECT_EQ(x[l], p.x) << "lane " << l;
+            EXPECT_EQ(y[l], p.y) << "lane " << l;
+        }
     }
 }
 

@@ -9,6 +9,7 @@
 #include "core/multi_jitter.h"
 #include "core/shapes.h"
 #include "lights/area_light.h"
+#include "lights/light_lanes.h"
 #include "lights/light_set.h"
 #include "lights/spherical_cap.h"
 #include "lights/spherical_rectangle.h"
@@ -243,6 +244,81 @@ TEST(LightSampling, SampleManyGivesWhatSampleGivesPointByPoint) {
             EXPECT_EQ(one->L.r, many[k]->L.r);
         }
     }
+}
+
+// Lane by lane what mayReach and sample give, bit for bit, for points all
+// around a light: in front and behind, near (spherical rectangles) and far
+// (by area), 16 lanes at a time and a partial batch at the end.
+void expectLanesMatchSample(const Light& light, uint64_t seed) {
+    constexpr int W = LanePoints::kWidth;
+    constexpr int kPoints = 16 * 12 + 7;
+    int sampled = 0;
+    for (int b = 0; b < kPoints; b += W) {
+        const int n = std::min(W, kPoints - b);
+        LanePoints at;
+        alignas(64) float ux[W], uy[W];
+        for (int l = 0; l < n; ++l) {
+            const uint32_t i = uint32_t(b + l);
+            const Vec2f a = multiJitter2D(i, kPoints, seed), c = multiJitter2D(i, kPoints, seed + 1);
+            const float radius = i % 3 == 0 ? 1.5f : 12.f;  // near and far
+            const Vec3f p = radius * Vec3f{2.f * a.x - 1.f, 2.f * a.y - 1.f, 2.f * c.x - 1.f};
+            const Vec3f n = normalize(Vec3f{c.y - 0.5f, 0.7f - a.x, a.y - 0.3f});
+            at.set(l, p, n);
+            const Vec2f u = multiJitter2D(i, kPoints, seed + 2);
+            ux[l] = u.x;
+            uy[l] = u.y;
+        }
+        alignas(64) int32_t reach[W];
+        light.mayReachLanes(at, n, reach);
+        LightLanes out;
+        light.sampleLanes(at, ux, uy, reach, n, out);
+        for (int l = 0; l < n; ++l) {
+            ASSERT_EQ(reach[l] != 0, light.mayReach(at.p(l), at.n(l))) << "lane " << l << " of batch " << b;
+            const auto one = reach[l] ? light.sample(at.p(l), Vec2f{ux[l], uy[l]}) : std::nullopt;
+            ASSERT_EQ(one.has_value(), out.ok[l] != 0) << "lane " << l << " of batch " << b;
+            if (!one) continue;
+            ++sampled;
+            const LightSample lane = out.get(l);
+            EXPECT_EQ(one->wi, lane.wi);
+            EXPECT_EQ(one->point, lane.point);
+            EXPECT_EQ(one->distance, lane.distance);
+            EXPECT_EQ(one->pdf, lane.pdf);
+            EXPECT_EQ(one->L, lane.L);
+            EXPECT_FALSE(lane.delta);
+        }
+    }
+    EXPECT_GT(sampled, kPoints / 5);
+}
+
+TEST(LightSampling, SampleLanesGiveWhatSampleGivesLaneByLane) {
+    for (const bool twoSided : {false, true}) {
+        Scene s = emitterScene(twoSided);
+        s.rectangles.push_back(Rectangle{Vec3f{-1.f, 0.5f, -1.f}, Vec3f{2.f, 0, 0}, Vec3f{0, 0.3f, 2.f}, 0});
+        s.rectangles.push_back(Rectangle{Vec3f{-1.f, 0.5f, -1.f}, Vec3f{2.f, 0, 0.4f}, Vec3f{0.3f, 0, 2.f}, 0});  // a parallelogram
+        s.disks.push_back(Disk{Vec3f{0, 1, 0}, normalize(Vec3f{0.2f, -1, 0.1f}), 0.8f, 0});
+        s.spheres.push_back(Sphere{Vec3f{0.5f, 0, 0}, 0.6f, 0});
+        SCOPED_TRACE(twoSided ? "two-sided" : "one-sided");
+        expectLanesMatchSample(ShapeAreaLight(s, ShapeAreaLight::Kind::Rectangle, 0), 11);
+        expectLanesMatchSample(ShapeAreaLight(s, ShapeAreaLight::Kind::Rectangle, 1), 12);
+        expectLanesMatchSample(ShapeAreaLight(s, ShapeAreaLight::Kind::Disk, 0), 13);
+        expectLanesMatchSample(ShapeAreaLight(s, ShapeAreaLight::Kind::Sphere, 0), 14);
+    }
+}
+
+TEST(LightSampling, SampleLanesLeaveLanesNotAskedForEmpty) {
+    Scene s = emitterScene(false);
+    s.rectangles.push_back(Rectangle{Vec3f{-1.f, 2.f, -1.f}, Vec3f{2.f, 0, 0}, Vec3f{0, 0, 2.f}, 0});  // faces down
+    const ShapeAreaLight light(s, ShapeAreaLight::Kind::Rectangle, 0);
+    LanePoints at;
+    alignas(64) float ux[3] = {0.2f, 0.5f, 0.9f}, uy[3] = {0.3f, 0.5f, 0.1f};
+    for (int l = 0; l < 3; ++l) at.set(l, Vec3f{0.1f * float(l), 0, 0}, Vec3f{0, 1, 0});
+    const int32_t want[3] = {1, 0, 1};
+    LightLanes out;
+    light.sampleLanes(at, ux, uy, want, 3, out);
+    EXPECT_EQ(out.ok[0], 1);
+    EXPECT_EQ(out.ok[1], 0);
+    EXPECT_EQ(out.ok[2], 1);
+    EXPECT_EQ(out.get(0).wi, light.sample(at.p(0), Vec2f{0.2f, 0.3f})->wi);
 }
 
 TEST(LightSampling, AreaSamplingStillFitsItsPdf) {

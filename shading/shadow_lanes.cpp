@@ -1,0 +1,90 @@
+#include "shading/shadow_lanes.h"
+
+#include <cmath>
+
+#include "core/lane_clones.h"
+
+namespace penumbra {
+
+PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, float nLight, float nBrdf,
+                                                 const Accelerator& accel, Rgb* added) const {
+    const LanePoints& at = points_;
+    RayLanes rays;
+    alignas(64) float wr[kWidth], wg[kWidth], wb[kWidth];
+    // Every lane's shadow ray (spawnRayTo towards the sampled point) and, where
+    // the surface is not glossy, phongResponse for an area light with no
+    // specular lobe times L / pdf: the same operations in the same order, so
+    // the same values bit for bit.
+    for (int c = 0; c < n; ++c) {
+        const float px = at.px[c], py = at.py[c], pz = at.pz[c], gx = at.nx[c], gy = at.ny[c], gz = at.nz[c];
+        // The ray: offsetRayOrigin, then from the origin to the point, stopping short by the point's offset.
+        const float ax = std::fabs(px), ay = std::fabs(py), az = std::fabs(pz);
+        const float ayz = ay < az ? az : ay, axyz = ax < ayz ? ayz : ax;
+        const float scale = kRayOffsetRelative * (axyz < 1.f ? 1.f : axyz);
+        const float qx = s.qx[c], qy = s.qy[c], qz = s.qz[c];
+        const bool inward = (qx - px) * gx + (qy - py) * gy + (qz - pz) * gz < 0.f;
+        const float offx = gx * scale, offy = gy * scale, offz = gz * scale;
+        const float ox = inward ? px - offx : px + offx;
+        const float oy = inward ? py - offy : py + offy;
+        const float oz = inward ? pz - offz : pz + offz;
+        const float dx = qx - ox, dy = qy - oy, dz = qz - oz;
+        const float dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+        const float inv = 1.f / dist;
+        const float bx = std::fabs(qx), by = std::fabs(qy), bz = std::fabs(qz);
+        const float byz = by < bz ? bz : by, bxyz = bx < byz ? byz : bx;
+        const float tfar = dist - kRayOffsetRelative * (bxyz < 1.f ? 1.f : bxyz);
+        const bool moves = dist > 0.f;
+        rays.ox[c] = ox;
+        rays.oy[c] = oy;
+        rays.oz[c] = oz;
+        rays.dx[c] = moves ? dx * inv : 0.f;
+        rays.dy[c] = moves ? dy * inv : 0.f;
+        rays.dz[c] = moves ? dz * inv : 0.f;
+        rays.tnear[c] = 0.f;
+        rays.tfar[c] = moves ? (tfar < 0.f ? 0.f : tfar) : 0.f;
+    }
+    for (int c = 0; c < n; ++c) {
+        const float gx = at.nx[c], gy = at.ny[c], gz = at.nz[c];
+        const float wx = s.wx[c], wy = s.wy[c], wz = s.wz[c];
+        const float cosTheta = nsx_[c] * wx + nsy_[c] * wy + nsz_[c] * wz;
+        const int32_t above = wx * gx + wy * gy + wz * gz > 0.f;
+        const float spec = specScale_[c] * 0.f;
+        const float fr0 = (kdr_[c] * kInvPi + ksr_[c] * spec) * cosTheta;
+        const float fg0 = (kdg_[c] * kInvPi + ksg_[c] * spec) * cosTheta;
+        const float fb0 = (kdb_[c] * kInvPi + ksb_[c] * spec) * cosTheta;
+        const bool lit = cosTheta > 0.f;  // else phongResponse is zero
+        const float fr = lit ? fr0 : 0.f, fg = lit ? fg0 : 0.f, fb = lit ? fb0 : 0.f;
+        const int32_t black = int32_t(fr == 0.f) & int32_t(fg == 0.f) & int32_t(fb == 0.f);
+        const float invPdf = 1.f / s.pdf[c];
+        wr[c] = fr * s.Lr[c] * invPdf;
+        wg[c] = fg * s.Lg[c] * invPdf;
+        wb[c] = fb * s.Lb[c] * invPdf;
+        rays.active[c] = s.ok[c] & above & (1 - black);
+    }
+    for (int c = n; c < kWidth; ++c) rays.active[c] = 0;
+    // The lanes the loop above does not cover: glossy and MIS weights, and
+    // samples of lights at infinity (a ray in a direction, not to a point).
+    for (int c = 0; c < n; ++c) {
+        const bool atInfinity = std::fabs(s.distance[c]) == kInfinity;
+        if (!s.ok[c] || !(scalar_[c] || atInfinity)) continue;
+        const LightSample ls = s.get(c);
+        if (atInfinity) rays.set(c, spawnRay(at.p(c), at.n(c), ls.wi));
+        if (!scalar_[c]) continue;
+        Rgb w;
+        rays.active[c] = shadowSampleWeight(*sp_[c], ls, 1.f, ls.pdf, mis_[c], nLight, nBrdf, w) ? 1 : 0;
+        wr[c] = w.r;
+        wg[c] = w.g;
+        wb[c] = w.b;
+    }
+    alignas(64) uint8_t blocked[kWidth];
+    accel.occludedLanes(rays, blocked);
+    uint32_t traced = 0;
+    for (int c = 0; c < n; ++c) {
+        const bool adds = rays.active[c] && !blocked[c];
+        added[c] = adds ? Rgb{wr[c], wg[c], wb[c]} : Rgb{};
+        traced += uint32_t(rays.active[c]);
+    }
+    return traced;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,91 @@
+// Direct light with one light sample per lane, as arrays: the lit lanes'
+// shading points gathered once, a light's samples at all of them
+// (Light::sampleLanes), their BRDF weights and shadow rays written by loops
+// over the lanes straight into a 16-wide packet (RayLanes), and the weights
+// of the unoccluded ones handed back per lane. Where a lane's weight needs
+// more than a Lambertian response (a glossy lobe, pow; an MIS weight), that
+// lane takes shadowSampleWeight, the rule every shadow ray's weight follows.
+#pragma once
+
+#include <cstdint>
+
+#include "accel/accelerator.h"
+#include "core/color.h"
+#include "core/ray_lanes.h"
+#include "lights/light_lanes.h"
+#include "shading/mis.h"
+#include "shading/phong.h"
+#include "shading/phong_sampling.h"
+#include "shading/shading_point.h"
+
+namespace penumbra {
+
+/// The weight f * L * scale / pdf that light sample ls adds at sp if its
+/// shadow ray is unoccluded; false where it adds nothing (below the geometric
+/// surface, or a black response). lightPdf: the light-sampling pdf of the
+/// sample's direction (solid angle pdf times the light's selection
+/// probability); mis: weigh it against nBrdf BRDF samples with the power
+/// heuristic (nLight light samples).
+inline bool shadowSampleWeight(const ShadingPoint& sp, const LightSample& ls, float scale, float lightPdf, bool mis,
+                               float nLight, float nBrdf, Rgb& weight) {
+    if (dot(ls.wi, sp.ng) <= 0.f) return false;  // below the geometric surface
+    Rgb f;
+    if (mis && !ls.delta) {
+        const PhongSample e = phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi);
+        f = e.fCos;
+        scale *= powerHeuristic(nLight, lightPdf, nBrdf, e.pdf);
+    } else {
+        f = phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi, ls.delta);
+    }
+    if (f.isBlack()) return false;
+    weight = f * ls.L * (scale / ls.pdf);
+    return true;
+}
+
+class ShadowLanes {
+public:
+    static constexpr int kWidth = RayLanes::kWidth;
+
+    /// Lane c's shading point; mis as in shadowSampleWeight. The point must
+    /// outlive the lanes (lanes that need the scalar rule read it).
+    void setLane(int c, const ShadingPoint& sp, bool mis);
+    /// The lanes' points and geometric normals, for Light::mayReachLanes and sampleLanes.
+    const LanePoints& points() const { return points_; }
+
+    /// Traces the samples of the first n lanes (those with samples.ok[c]) as
+    /// one packet and writes into added[c] the weight (scale 1, light pdf =
+    /// the sample's pdf) of each unoccluded one, Rgb{} for the others.
+    /// Returns how many shadow rays it traced.
+    uint32_t trace(const LightLanes& samples, int n, float nLight, float nBrdf, const Accelerator& accel,
+                   Rgb* added) const;
+
+private:
+    LanePoints points_;  // p and ng
+    alignas(64) float nsx_[kWidth], nsy_[kWidth], nsz_[kWidth];
+    alignas(64) float kdr_[kWidth], kdg_[kWidth], kdb_[kWidth];
+    alignas(64) float ksr_[kWidth], ksg_[kWidth], ksb_[kWidth];
+    alignas(64) float specScale_[kWidth];  // the specular lobe's normalisation, 1 in the classic model
+    alignas(64) int32_t scalar_[kWidth];   // 1: glossy or MIS, weighed by shadowSampleWeight
+    const ShadingPoint* sp_[kWidth];
+    bool mis_[kWidth];
+};
+
+inline void ShadowLanes::setLane(int c, const ShadingPoint& sp, bool mis) {
+    const Material& m = *sp.material;
+    points_.set(c, sp.p, sp.ng);
+    nsx_[c] = sp.ns.x;
+    nsy_[c] = sp.ns.y;
+    nsz_[c] = sp.ns.z;
+    kdr_[c] = sp.kd.r;
+    kdg_[c] = sp.kd.g;
+    kdb_[c] = sp.kd.b;
+    ksr_[c] = m.ks.r;
+    ksg_[c] = m.ks.g;
+    ksb_[c] = m.ks.b;
+    specScale_[c] = m.model == PhongModel::Normalized ? (m.exponent + 2.f) * kInv2Pi : 1.f;
+    scalar_[c] = mis || Rgb(m.ks).maxComponent() > 0.f;
+    sp_[c] = &sp;
+    mis_[c] = mis;
+}
+
+}  // namespace penumbra

@@ -191,9 +191,17 @@ public:
         for (uint32_t k = 0; k < count; ++k) out[k] = point(index * n + first + k);
     }
 
-    /// For each lane l < n: OwenSobol2D(keys[l]).point(indices[l]) as x[l],
-    /// y[l], the same values, as loops over the lanes (core/owen_sobol.cpp).
-    static void pointLanes(const uint64_t* keys, const uint32_t* indices, int n, float* x, float* y);
+    /// Sixteen lanes: the points of a batch's lanes or a shading point's samples.
+    static constexpr int kLanes = 16;
+    /// For each of the 16 lanes: OwenSobol2D(keys[l]).point(indices[l]) as
+    /// x[l], y[l], the same values, as loops over the lanes (core/owen_sobol.cpp).
+    /// Always all 16 (a fixed count leaves no lanes to a scalar tail): fill
+    /// the lanes not needed with anything.
+    static void pointLanes(const uint64_t (&keys)[kLanes], const uint32_t (&indices)[kLanes], float (&x)[kLanes],
+                           float (&y)[kLanes]);
+    /// samplePoints(index, n, first, 16, ...) as arrays: the same values, as
+    /// loops over the 16 points (those past the n points are not to be used).
+    void samplePointLanes(uint32_t index, uint32_t n, uint32_t first, float (&x)[kLanes], float (&y)[kLanes]) const;
 
 private:
     static constexpr uint64_t kKeySalt = 0x3c6ef372fe94f82bULL, kSecondSalt = 0xa54ff53a5f1d36f1ULL;

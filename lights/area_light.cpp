@@ -38,6 +38,14 @@ float areaPdfToSolidAngle(const Vec3f& p, const Vec3f& point, const Vec3f& n, fl
     return std::isfinite(pdf) ? pdf : 0.f;
 }
 
+// A rectangle as the lane loops read it (copies: the loops' stores cannot change them).
+struct RectangleLanes {
+    Vec3f corner, edgeA, edgeB, n;
+    float pdfArea;
+    uint32_t signMask;  // clears the sign bit of cos(theta') where the emitter is two-sided (std::fabs)
+    Rgb Le;
+};
+
 namespace {
 
 std::optional<LightSample> solidAngleSample(const Vec3f& p, const Vec3f& point, float solidAngle, const Rgb& Le) {
@@ -45,6 +53,48 @@ std::optional<LightSample> solidAngleSample(const Vec3f& p, const Vec3f& point, 
     const float dist = length(d);
     if (!(dist > 0.f) || !(solidAngle > 0.f)) return std::nullopt;
     return LightSample{Le, d / dist, point, dist, 1.f / solidAngle, false};
+}
+
+// rectangleAreaSample (areaLightSample at corner + u.x edgeA + u.y edgeB) at
+// each lane l < n, as one loop: the shading point of lane l is (px[l], py[l],
+// pz[l]), or (px[0], py[0], pz[0]) for every lane where kOnePoint. Inlined
+// into each compiled copy of its callers (core/lane_clones.h).
+template <bool kOnePoint>
+[[gnu::always_inline]] inline void rectangleAreaLanes(const RectangleLanes& r, const float* px, const float* py,
+                                                      const float* pz, const float* ux, const float* uy,
+                                                      const int32_t* want, int n, LightLanes& out) {
+    const Vec3f c = r.corner, ea = r.edgeA, eb = r.edgeB, fn = r.n;
+    const float pdfArea = r.pdfArea, Lr = r.Le.r, Lg = r.Le.g, Lb = r.Le.b;
+    const uint32_t signMask = r.signMask;
+    for (int l = 0; l < n; ++l) {
+        const int i = kOnePoint ? 0 : l;
+        const float qx = c.x + ux[l] * ea.x + uy[l] * eb.x;
+        const float qy = c.y + ux[l] * ea.y + uy[l] * eb.y;
+        const float qz = c.z + ux[l] * ea.z + uy[l] * eb.z;
+        const float dx = qx - px[i], dy = qy - py[i], dz = qz - pz[i];
+        const float dist2 = dx * dx + dy * dy + dz * dz;
+        const float dist = std::sqrt(dist2);
+        const float inv = 1.f / dist;
+        const float wx = dx * inv, wy = dy * inv, wz = dz * inv;
+        // A select on twoSided would keep this loop from vectorising; the mask does not.
+        const float cosLight =
+            std::bit_cast<float>(std::bit_cast<uint32_t>(-(fn.x * wx + fn.y * wy + fn.z * wz)) & signMask);
+        const float pdf = pdfArea * dist2 / cosLight;
+        const int32_t ok = (dist2 > 0.f) & (pdfArea > 0.f) & (cosLight > 0.f) & (std::fabs(pdf) < kInfinity) &
+                           (pdf > 0.f);
+        out.ok[l] = (kOnePoint ? 1 : want[l]) & ok;
+        out.wx[l] = wx;
+        out.wy[l] = wy;
+        out.wz[l] = wz;
+        out.qx[l] = qx;
+        out.qy[l] = qy;
+        out.qz[l] = qz;
+        out.distance[l] = dist;
+        out.pdf[l] = pdf;
+        out.Lr[l] = Lr;
+        out.Lg[l] = Lg;
+        out.Lb[l] = Lb;
+    }
 }
 
 }  // namespace
@@ -159,7 +209,7 @@ PENUMBRA_LANE_CLONES void ShapeAreaLight::rectangleSampleLanes(const LanePoints&
     // over the lanes; then the near points' spherical samples one by one (each
     // has its own set-up). Each pass computes what sample() computes, in its order.
     constexpr int W = LanePoints::kWidth;
-    const Vec3f c = corner_, ea = edgeA_, eb = edgeB_, fn = frame_.n, bc = boundCenter_;
+    const Vec3f c = corner_, fn = frame_.n, bc = boundCenter_;
     const int32_t twoSided = twoSided_ ? 1 : 0;
     // subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound), without its branches.
     const float r2 = boundRadius2_;
@@ -176,39 +226,7 @@ PENUMBRA_LANE_CLONES void ShapeAreaLight::rectangleSampleLanes(const LanePoints&
         near[l] = want[l] & (twoSided | front) & subtends & int32_t(orthogonalEdges_);
         anyNear |= near[l];
     }
-    // rectangleAreaSample, i.e. areaLightSample at corner_ + u.x edgeA_ + u.y edgeB_.
-    const float pdfArea = pdfArea_;
-    const uint32_t signMask = twoSided_ ? 0x7fffffffu : 0xffffffffu;
-    const float Lr = Le_.r, Lg = Le_.g, Lb = Le_.b;
-    for (int l = 0; l < n; ++l) {
-        const float qx = c.x + ux[l] * ea.x + uy[l] * eb.x;
-        const float qy = c.y + ux[l] * ea.y + uy[l] * eb.y;
-        const float qz = c.z + ux[l] * ea.z + uy[l] * eb.z;
-        const float dx = qx - at.px[l], dy = qy - at.py[l], dz = qz - at.pz[l];
-        const float dist2 = dx * dx + dy * dy + dz * dz;
-        const float dist = std::sqrt(dist2);
-        const float inv = 1.f / dist;
-        const float wx = dx * inv, wy = dy * inv, wz = dz * inv;
-        // std::fabs where the emitter is two-sided, as the sign bit cleared by a
-        // mask (a select on twoSided would keep this loop from vectorising).
-        const float cosLight =
-            std::bit_cast<float>(std::bit_cast<uint32_t>(-(fn.x * wx + fn.y * wy + fn.z * wz)) & signMask);
-        const float pdf = pdfArea * dist2 / cosLight;
-        const int32_t ok = (dist2 > 0.f) & (pdfArea > 0.f) & (cosLight > 0.f) & (std::fabs(pdf) < kInfinity) &
-                           (pdf > 0.f);
-        out.ok[l] = want[l] & ok;
-        out.wx[l] = wx;
-        out.wy[l] = wy;
-        out.wz[l] = wz;
-        out.qx[l] = qx;
-        out.qy[l] = qy;
-        out.qz[l] = qz;
-        out.distance[l] = dist;
-        out.pdf[l] = pdf;
-        out.Lr[l] = Lr;
-        out.Lg[l] = Lg;
-        out.Lb[l] = Lb;
-    }
+    rectangleAreaLanes<false>(rectangleLanes(), at.px, at.py, at.pz, ux, uy, want, n, out);
     // The near points' spherical samples replace their area samples.
     if (!anyNear) return;
     for (int l = 0; l < n; ++l) {
@@ -218,6 +236,28 @@ PENUMBRA_LANE_CLONES void ShapeAreaLight::rectangleSampleLanes(const LanePoints&
         if (sr.solidAngle() < kSphericalMinSolidAngle) continue;  // too small after all: by area
         out.set(l, solidAngleSample(p, sr.sample(Vec2f{ux[l], uy[l]}), sr.solidAngle(), Le_));
     }
+}
+
+void ShapeAreaLight::sampleManyLanes(const Vec3f& p, const float* ux, const float* uy, int n, LightLanes& out) const {
+    if (kind_ == Kind::Rectangle) {
+        rectangleSampleManyLanes(p, ux, uy, n, out);
+    } else {
+        Light::sampleManyLanes(p, ux, uy, n, out);
+    }
+}
+
+PENUMBRA_LANE_CLONES void ShapeAreaLight::rectangleSampleManyLanes(const Vec3f& p, const float* ux, const float* uy,
+                                                                   int n, LightLanes& out) const {
+    // sampleMany's decision, taken once for p; the area samples as one loop.
+    if (const auto sr = emitsTowards(p) ? sphericalRectangleAt(p) : std::nullopt) {
+        for (int l = 0; l < n; ++l) out.set(l, solidAngleSample(p, sr->sample(Vec2f{ux[l], uy[l]}), sr->solidAngle(), Le_));
+        return;
+    }
+    rectangleAreaLanes<true>(rectangleLanes(), &p.x, &p.y, &p.z, ux, uy, nullptr, n, out);
+}
+
+RectangleLanes ShapeAreaLight::rectangleLanes() const {
+    return RectangleLanes{corner_, edgeA_, edgeB_, frame_.n, pdfArea_, twoSided_ ? 0x7fffffffu : 0xffffffffu, Le_};
 }
 
 void ShapeAreaLight::sampleMany(const Vec3f& p, std::span<const Vec2f> u,

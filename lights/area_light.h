@@ -16,6 +16,8 @@
 
 namespace penumbra {
 
+struct RectangleLanes;  // area_light.cpp
+
 /// Emitters that subtend less than this (steradians) at the shading point are
 /// sampled by area: solid-angle sampling gains nothing there and its
 /// spherical trigonometry loses precision.
@@ -46,6 +48,7 @@ public:
     ShapeAreaLight(const Scene& scene, Kind kind, uint32_t index);
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     void sampleMany(const Vec3f& p, std::span<const Vec2f> u, std::span<std::optional<LightSample>> out) const override;
+    void sampleManyLanes(const Vec3f& p, const float* ux, const float* uy, int n, LightLanes& out) const override;
     void mayReachLanes(const LanePoints& at, int n, int32_t* reach) const override;
     void sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                      LightLanes& out) const override;
@@ -67,6 +70,8 @@ private:
     void rectangleReachLanes(const LanePoints& at, int n, int32_t* reach) const;
     void rectangleSampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                               LightLanes& out) const;
+    void rectangleSampleManyLanes(const Vec3f& p, const float* ux, const float* uy, int n, LightLanes& out) const;
+    RectangleLanes rectangleLanes() const;
 
     const Scene& scene_;
     Kind kind_;

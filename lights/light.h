@@ -53,6 +53,10 @@ public:
     /// delta lights (LightLanes has no delta flag).
     virtual void sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                              LightLanes& out) const;
+    /// sampleMany as lanes: out.set(l, sample(p, {ux[l], uy[l]})) for l < n
+    /// (at most LightLanes::kWidth), with sampleMany's shared set-up (the
+    /// default calls sampleMany). Not for delta lights.
+    virtual void sampleManyLanes(const Vec3f& p, const float* ux, const float* uy, int n, LightLanes& out) const;
     /// The estimator before solid-angle sampling: points uniform in area
     /// (--direct-light area, for comparisons). Same as sample() unless overridden.
     virtual std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const { return sample(p, u); }

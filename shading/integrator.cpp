@@ -287,22 +287,49 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                     for (size_t q = 0; q < nLit; ++q) shadowLanes.setLane(int(q), lanes[lit[q]].sp, mis[lit[q]]);
                     shadowLanesSet = true;
                 }
-                alignas(64) int32_t reach[kMaxBatch];
-                alignas(64) uint64_t keys[kMaxBatch];
-                alignas(64) uint32_t indices[kMaxBatch];
-                alignas(64) float ux[kMaxBatch], uy[kMaxBatch];
+                constexpr int W = OwenSobol2D::kLanes;
+                static_assert(kMaxBatch <= size_t(W));
+                alignas(64) int32_t reach[W];
+                alignas(64) uint64_t keys[W];
+                alignas(64) uint32_t indices[W];
+                alignas(64) float ux[W], uy[W];
                 light.mayReachLanes(shadowLanes.points(), int(nLit), reach);
-                for (size_t q = 0; q < nLit; ++q) {
-                    keys[q] = dimensionKey(lanes[lit[q]].key, dim);
-                    indices[q] = lanes[lit[q]].key.index;
+                for (size_t q = 0; q < size_t(W); ++q) {
+                    keys[q] = q < nLit ? dimensionKey(lanes[lit[q]].key, dim) : 0;
+                    indices[q] = q < nLit ? lanes[lit[q]].key.index : 0;
                 }
                 // Every lane's point, also where it is not needed: one loop, no branches.
-                OwenSobol2D::pointLanes(keys, indices, int(nLit), ux, uy);
+                OwenSobol2D::pointLanes(keys, indices, ux, uy);
                 LightLanes samples;
                 light.sampleLanes(shadowLanes.points(), ux, uy, reach, int(nLit), samples);
                 ScratchArray<Rgb, kMaxBatch> added;
                 counts.shadow += shadowLanes.trace(samples, int(nLit), float(n), float(nBrdf), accel_, added.data());
                 for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += added[q] * invN;
+                continue;
+            }
+            if (!area && n >= uint32_t(ShadowLanes::kWidth)) {
+                // A lane's n samples, 16 at a time as the lanes of ShadowLanes, in sample order. (With
+                // fewer samples than a packet's 16 lanes, the queue below fills packets across lanes.)
+                for (size_t q = 0; q < nLit; ++q) {
+                    const PathLane& lane = lanes[lit[q]];
+                    if (!light.mayReach(lane.sp.p, lane.sp.ng)) continue;  // every sample would be discarded
+                    const OwenSobol2D seq = dimensionSequence(lane.key, dim);
+                    shadowLanes.setAll(lane.sp, mis[lit[q]]);
+                    shadowLanesSet = false;  // no longer the lit lanes' points
+                    constexpr uint32_t W = uint32_t(ShadowLanes::kWidth);
+                    for (uint32_t k0 = 0; k0 < n; k0 += W) {
+                        const uint32_t m = std::min(n - k0, W);
+                        alignas(64) float ux[W], uy[W];
+                        seq.samplePointLanes(lane.key.index, n, k0, ux, uy);
+                        LightLanes samples;
+                        light.sampleManyLanes(lane.sp.p, ux, uy, int(m), samples);
+                        ScratchArray<Rgb, W> added;
+                        counts.shadow +=
+                            shadowLanes.trace(samples, int(m), float(n), float(nBrdf), accel_, added.data());
+                        for (uint32_t c = 0; c < m; ++c) acc[lit[q]] += added[c];
+                    }
+                }
+                for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]] * invN;
                 continue;
             }
             for (size_t q = 0; q < nLit; ++q) {

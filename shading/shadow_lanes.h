@@ -49,6 +49,10 @@ public:
     /// Lane c's shading point; mis as in shadowSampleWeight. The point must
     /// outlive the lanes (lanes that need the scalar rule read it).
     void setLane(int c, const ShadingPoint& sp, bool mis);
+    /// Every lane at one shading point (its samples are then the lanes).
+    void setAll(const ShadingPoint& sp, bool mis) {
+        for (int c = 0; c < kWidth; ++c) setLane(c, sp, mis);
+    }
     /// The lanes' points and geometric normals, for Light::mayReachLanes and sampleLanes.
     const LanePoints& points() const { return points_; }
 
@@ -70,7 +74,7 @@ private:
     bool mis_[kWidth];
 };
 
-inline void ShadowLanes::setLane(int c, const ShadingPoint& sp, bool mis) {
+[[gnu::always_inline]] inline void ShadowLanes::setLane(int c, const ShadingPoint& sp, bool mis) {
     const Material& m = *sp.material;
     points_.set(c, sp.p, sp.ng);
     nsx_[c] = sp.ns.x;

@@ -155,22 +155,40 @@ TEST(OwenSobol, SecondDimensionByColumnsIsTheTables) {
 }
 
 TEST(OwenSobol, PointLanesArePointsBitForBit) {
-    // 16 lanes and a partial batch, each with its own key and index (as a batch's lanes have).
-    for (const int n : {16, 11, 1}) {
-        uint64_t keys[16];
-        uint32_t indices[16];
-        for (int l = 0; l < n; ++l) {
-            keys[l] = mix64(uint64_t(l) * 977 + uint64_t(n));
-            indices[l] = l == 0 ? 0u : l == 1 ? ~0u : uint32_t(mix64(uint64_t(l) + 3) >> 40);
+    // Each lane with its own key and index, as a batch's lanes have.
+    for (const uint64_t salt : {1ULL, 2ULL, 3ULL}) {
+        uint64_t keys[OwenSobol2D::kLanes];
+        uint32_t indices[OwenSobol2D::kLanes];
+        for (int l = 0; l < OwenSobol2D::kLanes; ++l) {
+            keys[l] = mix64(uint64_t(l) * 977 + salt);
+            indices[l] = l == 0 ? 0u : l == 1 ? ~0u : uint32_t(mix64(uint64_t(l) + salt) >> (8 * salt));
         }
-        float x[16], y[16];
-        OwenSobol2D::pointLanes(keys, indices, n, x, y);
-        for (int l = 0; l < n; ++l) {
+        float x[OwenSobol2D::kLanes], y[OwenSobol2D::kLanes];
+        OwenSobol2D::pointLanes(keys, indices, x, y);
+        for (int l = 0; l < OwenSobol2D::kLanes; ++l) {
             const Vec2f p = OwenSobol2D(keys[l]).point(indices[l]);
             EXPECT_EQ(x[l], p.x) << "lane " << l;
             EXPECT_EQ(y[l], p.y) << "lane " << l;
         }
     }
+}
+
+TEST(OwenSobol, SamplePointLanesAreSamplePointsBitForBit) {
+    // Powers of two (the block path) and other counts, from several starting points.
+    const OwenSobol2D seq(0x1234567ULL);
+    for (const uint32_t n : {16u, 64u, 20u, 100u})
+        for (const uint32_t index : {0u, 5u, 1000u})
+            for (uint32_t first = 0; first < n; first += 16) {
+                Vec2f want[OwenSobol2D::kLanes];
+                const uint32_t count = std::min(n - first, 16u);
+                seq.samplePoints(index, n, first, count, want);
+                float x[OwenSobol2D::kLanes], y[OwenSobol2D::kLanes];
+                seq.samplePointLanes(index, n, first, x, y);
+                for (uint32_t k = 0; k < count; ++k) {
+                    EXPECT_EQ(x[k], want[k].x) << n << " " << index << " " << first + k;
+                    EXPECT_EQ(y[k], want[k].y) << n << " " << index << " " << first + k;
+                }
+            }
 }
 
 TEST(OwenSobol, BlockPointsAreTheBlocksPointsInAnotherOrder) {

@@ -305,6 +305,47 @@ TEST(LightSampling, SampleLanesGiveWhatSampleGivesLaneByLane) {
     }
 }
 
+TEST(LightSampling, SampleManyLanesGiveWhatSampleGivesPointByPoint) {
+    // One shading point's samples as lanes: near (spherical rectangle), far (by area), behind
+    // (nothing); a parallelogram, a disk and a mesh light (the default, through sampleMany).
+    Scene s = emitterScene(false);
+    s.rectangles.push_back(Rectangle{Vec3f{1.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.1f}, Vec3f{0, 1.5f, 0}, 0});
+    s.rectangles.push_back(Rectangle{Vec3f{1.f, -0.4f, 0.2f}, Vec3f{0, 0.3f, 1.1f}, Vec3f{0, 1.5f, 0}, 0});
+    s.disks.push_back(Disk{Vec3f{1, 0, 0}, Vec3f{-1, 0, 0}, 0.8f, 0});
+    TriangleMesh mesh;
+    for (const Vec3f v : {Vec3f{1, -1, -1}, Vec3f{1, 1, -1}, Vec3f{1, 0, 1}, Vec3f{1.5f, -1, 1}}) mesh.positions.push_back(v);
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    s.meshes.push_back(mesh);
+    s.finalize(Logger([](LogLevel, std::string_view) {}));
+    const LightSet lights(s);
+    ASSERT_EQ(lights.size(), 4u);
+    for (size_t j = 0; j < lights.size(); ++j) {
+        for (const Vec3f p : {Vec3f{0, 0, 0}, Vec3f{-6, 0.1f, 0.3f}, Vec3f{2, 0, 0}}) {
+            float ux[LightLanes::kWidth], uy[LightLanes::kWidth];
+            for (int l = 0; l < LightLanes::kWidth; ++l) {
+                const Vec2f u = multiJitter2D(uint32_t(l), LightLanes::kWidth, 9);
+                ux[l] = u.x;
+                uy[l] = u.y;
+            }
+            for (const int n : {LightLanes::kWidth, 5}) {
+                LightLanes out;
+                lights[j].sampleManyLanes(p, ux, uy, n, out);
+                for (int l = 0; l < n; ++l) {
+                    const auto one = lights[j].sample(p, Vec2f{ux[l], uy[l]});
+                    ASSERT_EQ(one.has_value(), out.ok[l] != 0) << "light " << j << " lane " << l;
+                    if (!one) continue;
+                    const LightSample lane = out.get(l);
+                    EXPECT_EQ(one->wi, lane.wi);
+                    EXPECT_EQ(one->point, lane.point);
+                    EXPECT_EQ(one->distance, lane.distance);
+                    EXPECT_EQ(one->pdf, lane.pdf);
+                    EXPECT_EQ(one->L, lane.L);
+                }
+            }
+        }
+    }
+}
+
 TEST(LightSampling, SampleLanesLeaveLanesNotAskedForEmpty) {
     Scene s = emitterScene(false);
     s.rectangles.push_back(Rectangle{Vec3f{-1.f, 2.f, -1.f}, Vec3f{2.f, 0, 0}, Vec3f{0, 0, 2.f}, 0});  // faces down

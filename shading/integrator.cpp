@@ -442,7 +442,7 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
         addDirectLightByDepth(batch, std::span<uint8_t>(active, n), counts);
 
         // Mirror and transmitted rays of the lanes that continue, traced together.
-        Ray next[kMaxBatch];
+        ScratchArray<Ray, kMaxBatch> next;  // written before read: not initialised per bounce
         uint8_t nextLane[kMaxBatch];
         size_t nNext = 0;
         for (size_t i = 0; i < n; ++i) {
@@ -456,7 +456,8 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
         if (nNext == 0) break;
         if (!nextHits) nextHits.emplace();
         std::array<std::optional<Hit>, kMaxBatch>& bounce = *nextHits;
-        accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(bounce.data(), nNext));
+        accel_.intersectBatch(std::span<const Ray>(next.data(), nNext),
+                              std::span<std::optional<Hit>>(bounce.data(), nNext));
         for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = bounce[c] ? &*bounce[c] : nullptr;
     }
     for (size_t i = 0; i < n; ++i) {

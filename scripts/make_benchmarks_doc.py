@@ -86,6 +86,29 @@ def anchor_figures(anchors):
     return fig
 
 
+def threads_section(log):
+    """The thread-scaling table from a saved run of scripts/bench_threads.sh, and its raw output."""
+    runs = {}
+    for line in log.splitlines():
+        f = line.split()
+        if line.startswith("#") or len(f) != 5 or f[0] == "scene":
+            continue
+        runs.setdefault((f[0], int(f[1])), []).append((float(f[3]), f[4] == "yes"))
+    out = [(ROOT / "scripts" / "benchmarks_doc_threads.md").read_text().rstrip() + "\n\n"]
+    out.append("| scene | threads | render s (median) | speed-up over 1 thread | over 2 threads, per pair of threads "
+               "| every image identical to 1 thread |\n| --- | ---: | ---: | ---: | ---: | --- |\n")
+    for (scene, t), rs in runs.items():
+        sec = median([r[0] for r in rs])
+        one = median([r[0] for r in runs.get((scene, 1), [])]) if (scene, 1) in runs else None
+        two = median([r[0] for r in runs.get((scene, 2), [])]) if (scene, 2) in runs else None
+        over_one = fmt(one / sec) if one else "-"
+        over_two = fmt(two / sec / (t / 2)) if two and t >= 2 else "-"
+        out.append(f"| {scene} | {t} | {fmt(sec, 3)} | {over_one} | {over_two} | "
+                   f"{'yes' if all(r[1] for r in rs) else '**no**'} |\n")
+    out.append("\nRaw output (`docs/bench_threads.txt`):\n\n```\n" + log.rstrip() + "\n```\n")
+    return "".join(out)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--docs", default=str(ROOT / "docs"))
@@ -189,6 +212,9 @@ def main():
     out.append("```\n" + bench_log.rstrip() + "\n```\n")
     out.append("\n### Raw output of the anchors (`docs/bench_anchors.txt`; all runs in `docs/bench_anchors.json`)\n\n")
     out.append("```\n" + anchors_log.rstrip() + "\n```\n")
+    threads_log = docs / "bench_threads.txt"
+    if threads_log.exists():
+        out.append(threads_section(threads_log.read_text()))
     # Sections measured by separate runs, each with its own commands and output.
     for part in ("benchmarks_doc_scale.md", "benchmarks_doc_loading.md", "benchmarks_doc_instancing.md",
                  "benchmarks_doc_noise.md"):

@@ -1,10 +1,12 @@
-// Direct light with one light sample per lane, as arrays: the lit lanes'
-// shading points gathered once, a light's samples at all of them
-// (Light::sampleLanes), their BRDF weights and shadow rays written by loops
-// over the lanes straight into a 16-wide packet (RayLanes), and the weights
-// of the unoccluded ones handed back per lane. Where a lane's weight needs
-// more than a Lambertian response (a glossy lobe, pow; an MIS weight), that
-// lane takes shadowSampleWeight, the rule every shadow ray's weight follows.
+// Direct light over the 16 lanes of a packet, as arrays. A lane is one light
+// sample: at each of a batch's shading points (gathered once; the light's
+// samples from Light::sampleLanes), or one of a single shading point's samples,
+// 16 at a time (Light::sampleManyLanes). The samples' BRDF weights and shadow
+// rays are written by loops over the lanes straight into the packet
+// (RayLanes), and the weights of the unoccluded ones are handed back per lane.
+// Where a lane's weight needs more than a Lambertian response (a glossy lobe,
+// pow; an MIS weight), that lane takes shadowSampleWeight, the rule every
+// shadow ray's weight follows.
 #pragma once
 
 #include <cstdint>

@@ -246,10 +246,20 @@ TEST(LightSampling, SampleManyGivesWhatSampleGivesPointByPoint) {
     }
 }
 
+// A lane's sample is the scalar one, bit for bit.
+static void expectSameSample(const LightSample& one, const LightSample& lane) {
+    EXPECT_EQ(one.wi, lane.wi);
+    EXPECT_EQ(one.point, lane.point);
+    EXPECT_EQ(one.distance, lane.distance);
+    EXPECT_EQ(one.pdf, lane.pdf);
+    EXPECT_EQ(one.L, lane.L);
+    EXPECT_EQ(one.delta, lane.delta);
+}
+
 // Lane by lane what mayReach and sample give, bit for bit, for points all
 // around a light: in front and behind, near (spherical rectangles) and far
 // (by area), 16 lanes at a time and a partial batch at the end.
-void expectLanesMatchSample(const Light& light, uint64_t seed) {
+static void expectLanesMatchSample(const Light& light, uint64_t seed) {
     constexpr int W = LanePoints::kWidth;
     constexpr int kPoints = 16 * 12 + 7;
     int sampled = 0;
@@ -278,13 +288,7 @@ void expectLanesMatchSample(const Light& light, uint64_t seed) {
             ASSERT_EQ(one.has_value(), out.ok[l] != 0) << "lane " << l << " of batch " << b;
             if (!one) continue;
             ++sampled;
-            const LightSample lane = out.get(l);
-            EXPECT_EQ(one->wi, lane.wi);
-            EXPECT_EQ(one->point, lane.point);
-            EXPECT_EQ(one->distance, lane.distance);
-            EXPECT_EQ(one->pdf, lane.pdf);
-            EXPECT_EQ(one->L, lane.L);
-            EXPECT_FALSE(lane.delta);
+            expectSameSample(*one, out.get(l));
         }
     }
     EXPECT_GT(sampled, kPoints / 5);
@@ -334,12 +338,7 @@ TEST(LightSampling, SampleManyLanesGiveWhatSampleGivesPointByPoint) {
                     const auto one = lights[j].sample(p, Vec2f{ux[l], uy[l]});
                     ASSERT_EQ(one.has_value(), out.ok[l] != 0) << "light " << j << " lane " << l;
                     if (!one) continue;
-                    const LightSample lane = out.get(l);
-                    EXPECT_EQ(one->wi, lane.wi);
-                    EXPECT_EQ(one->point, lane.point);
-                    EXPECT_EQ(one->distance, lane.distance);
-                    EXPECT_EQ(one->pdf, lane.pdf);
-                    EXPECT_EQ(one->L, lane.L);
+                    expectSameSample(*one, out.get(l));
                 }
             }
         }

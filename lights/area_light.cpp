@@ -250,7 +250,8 @@ PENUMBRA_LANE_CLONES void ShapeAreaLight::rectangleSampleManyLanes(const Vec3f& 
                                                                    int n, LightLanes& out) const {
     // sampleMany's decision, taken once for p; the area samples as one loop.
     if (const auto sr = emitsTowards(p) ? sphericalRectangleAt(p) : std::nullopt) {
-        for (int l = 0; l < n; ++l) out.set(l, solidAngleSample(p, sr->sample(Vec2f{ux[l], uy[l]}), sr->solidAngle(), Le_));
+        for (int l = 0; l < n; ++l)
+            out.set(l, solidAngleSample(p, sr->sample(Vec2f{ux[l], uy[l]}), sr->solidAngle(), Le_));
         return;
     }
     rectangleAreaLanes<true>(rectangleLanes(), &p.x, &p.y, &p.z, ux, uy, nullptr, n, out);

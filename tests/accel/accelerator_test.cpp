@@ -195,7 +195,8 @@ TEST_P(EachAccelerator, RayLanesAnswerAsOccludedDoesAndIdleLanesAreNotCounted) {
     // Rays towards every shape, past them, short of them, across the plane, and two invalid ones.
     std::vector<Ray> rays;
     for (const Vec3f target : {Vec3f{-3, 0, 0}, Vec3f{0, 0, 0}, Vec3f{3, 0, 0}, Vec3f{0, 3, 0}, Vec3f{0, -3, 0}})
-        for (const float far : {3.f, 9.5f, 20.f}) rays.push_back(Ray{{0, 0, 10}, normalize(target - Vec3f{0, 0, 10}), 0.f, far});
+        for (const float far : {3.f, 9.5f, 20.f})
+            rays.push_back(Ray{{0, 0, 10}, normalize(target - Vec3f{0, 0, 10}), 0.f, far});
     rays.push_back(Ray{{8, 8, 10}, {0, 0, -1}, 0.f, kInfinity});        // only the plane
     rays.push_back(Ray{{8, 8, 10}, {0, 0, 1}, 0.f, kInfinity});         // nothing
     rays.push_back(Ray{{nan, 0, 10}, {0, 0, -1}, 0.f, kInfinity});       // invalid

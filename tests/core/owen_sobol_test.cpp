@@ -144,7 +144,8 @@ TEST(OwenSobol, ReverseBitsReversesEveryBit) {
 
 TEST(OwenSobol, SecondDimensionByColumnsIsTheTables) {
     // The generator matrix's columns v_0 = 2^31, v_{j+1} = v_j ^ (v_j >> 1), reversed.
-    for (uint32_t j = 0; j < 32; ++j) EXPECT_EQ(detail::sobolSecondReversedByColumns(1u << j), detail::sobolSecondReversed(1u << j));
+    for (uint32_t j = 0; j < 32; ++j)
+        EXPECT_EQ(detail::sobolSecondReversedByColumns(1u << j), detail::sobolSecondReversed(1u << j));
     uint64_t state = 7;
     for (int i = 0; i < 10000; ++i) {
         state = mix64(state + 0x9e3779b97f4a7c15ULL);

@@ -298,7 +298,8 @@ TEST(LightSampling, SampleLanesGiveWhatSampleGivesLaneByLane) {
     for (const bool twoSided : {false, true}) {
         Scene s = emitterScene(twoSided);
         s.rectangles.push_back(Rectangle{Vec3f{-1.f, 0.5f, -1.f}, Vec3f{2.f, 0, 0}, Vec3f{0, 0.3f, 2.f}, 0});
-        s.rectangles.push_back(Rectangle{Vec3f{-1.f, 0.5f, -1.f}, Vec3f{2.f, 0, 0.4f}, Vec3f{0.3f, 0, 2.f}, 0});  // a parallelogram
+        // The second one is a parallelogram.
+        s.rectangles.push_back(Rectangle{Vec3f{-1.f, 0.5f, -1.f}, Vec3f{2.f, 0, 0.4f}, Vec3f{0.3f, 0, 2.f}, 0});
         s.disks.push_back(Disk{Vec3f{0, 1, 0}, normalize(Vec3f{0.2f, -1, 0.1f}), 0.8f, 0});
         s.spheres.push_back(Sphere{Vec3f{0.5f, 0, 0}, 0.6f, 0});
         SCOPED_TRACE(twoSided ? "two-sided" : "one-sided");
@@ -317,7 +318,8 @@ TEST(LightSampling, SampleManyLanesGiveWhatSampleGivesPointByPoint) {
     s.rectangles.push_back(Rectangle{Vec3f{1.f, -0.4f, 0.2f}, Vec3f{0, 0.3f, 1.1f}, Vec3f{0, 1.5f, 0}, 0});
     s.disks.push_back(Disk{Vec3f{1, 0, 0}, Vec3f{-1, 0, 0}, 0.8f, 0});
     TriangleMesh mesh;
-    for (const Vec3f v : {Vec3f{1, -1, -1}, Vec3f{1, 1, -1}, Vec3f{1, 0, 1}, Vec3f{1.5f, -1, 1}}) mesh.positions.push_back(v);
+    for (const Vec3f v : {Vec3f{1, -1, -1}, Vec3f{1, 1, -1}, Vec3f{1, 0, 1}, Vec3f{1.5f, -1, 1}})
+        mesh.positions.push_back(v);
     mesh.indices = {0, 1, 2, 0, 2, 3};
     s.meshes.push_back(mesh);
     s.finalize(Logger([](LogLevel, std::string_view) {}));

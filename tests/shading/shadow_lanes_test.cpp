@@ -95,7 +95,8 @@ TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
                 const LightSample ls = samples.get(c);
                 Rgb w;
                 if (shadowSampleWeight(sp, ls, 1.f, ls.pdf, mis[c], 2.f, 1.f, w)) {
-                    const Ray ray = std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point);
+                    const Ray ray =
+                        std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point);
                     if (!accel->occluded(ray)) {
                         want = w;
                     } else {

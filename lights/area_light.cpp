@@ -210,19 +210,14 @@ PENUMBRA_LANE_CLONES void ShapeAreaLight::rectangleSampleLanes(const LanePoints&
     // has its own set-up). Each pass computes what sample() computes, in its order.
     constexpr int W = LanePoints::kWidth;
     const Vec3f c = corner_, fn = frame_.n, bc = boundCenter_;
-    const int32_t twoSided = twoSided_ ? 1 : 0;
-    // subtendsAtLeast(boundCenter_, boundRadius2_, p, kSolidAngleSamplingMinBound), without its branches.
     const float r2 = boundRadius2_;
-    const float cosOmega = 1.f - kSolidAngleSamplingMinBound * kInv2Pi;
-    const float sin2Omega = 1.f - cosOmega * cosOmega;
+    const int32_t twoSided = twoSided_ ? 1 : 0;
     alignas(64) int32_t near[W];
     int anyNear = 0;
     for (int l = 0; l < n; ++l) {
         const float px = at.px[l], py = at.py[l], pz = at.pz[l];
         const int32_t front = fn.x * (px - c.x) + fn.y * (py - c.y) + fn.z * (pz - c.z) > 0.f;
-        const float bx = bc.x - px, by = bc.y - py, bz = bc.z - pz;
-        const float d2 = bx * bx + by * by + bz * bz;
-        const int32_t subtends = int32_t(!(d2 > r2)) | ((cosOmega > 0.f) & (r2 >= sin2Omega * d2));
+        const int32_t subtends = subtendsAtLeast(bc, r2, Vec3f{px, py, pz}, kSolidAngleSamplingMinBound);
         near[l] = want[l] & (twoSided | front) & subtends & int32_t(orthogonalEdges_);
         anyNear |= near[l];
     }

@@ -193,12 +193,16 @@ public:
 
     /// Sixteen lanes: the points of a batch's lanes or a shading point's samples.
     static constexpr int kLanes = 16;
-    /// For each of the 16 lanes: OwenSobol2D(keys[l]).point(indices[l]) as
-    /// x[l], y[l], the same values, as loops over the lanes (core/owen_sobol.cpp).
-    /// Always all 16 (a fixed count leaves no lanes to a scalar tail): fill
-    /// the lanes not needed with anything.
-    static void pointLanes(const uint64_t (&keys)[kLanes], const uint32_t (&indices)[kLanes], float (&x)[kLanes],
-                           float (&y)[kLanes]);
+    /// For each of the 16 lanes: sample ks[l] of the n that camera sample
+    /// indices[l] draws from the sequence of keys[l], that is
+    /// OwenSobol2D(keys[l]).samplePoints(indices[l], n, ks[l], 1, ...), as
+    /// x[l], y[l]: the same values, as loops over the lanes
+    /// (core/owen_sobol.cpp). With n = 1 and every ks[l] = 0 it is
+    /// point(indices[l]): a batch's lanes, one sample each. Always all 16 (a
+    /// fixed count leaves no lanes to a scalar tail): fill the lanes not
+    /// needed with anything.
+    static void pointLanes(const uint64_t (&keys)[kLanes], const uint32_t (&indices)[kLanes], uint32_t n,
+                           const uint32_t (&ks)[kLanes], float (&x)[kLanes], float (&y)[kLanes]);
     /// samplePoints(index, n, first, 16, ...) as arrays: the same values, as
     /// loops over the 16 points (those past the n points are not to be used).
     void samplePointLanes(uint32_t index, uint32_t n, uint32_t first, float (&x)[kLanes], float (&y)[kLanes]) const;
@@ -211,6 +215,19 @@ private:
         const uint32_t x = detail::reverseBits(detail::upwardHash(i, scrambleX_));
         const uint32_t y = detail::reverseBits(detail::upwardHash(detail::sobolSecondReversed(i), scrambleY_));
         return {detail::fixedToUnit(x), detail::fixedToUnit(y)};
+    }
+
+    // shuffledPoint with the bit reversals by swaps and Sobol's second
+    // dimension by columns (no tables): for loops over lanes, which vectorise.
+    [[gnu::always_inline]] static void shuffledPointBySwaps(uint32_t i, uint32_t scrambleX, uint32_t scrambleY,
+                                                            float& x, float& y) {
+        x = detail::fixedToUnit(detail::reverseBitsBySwaps(detail::upwardHash(i, scrambleX)));
+        y = detail::fixedToUnit(
+            detail::reverseBitsBySwaps(detail::upwardHash(detail::sobolSecondReversedByColumns(i), scrambleY)));
+    }
+    // The shuffled index of point `index` (point()'s shuffle), by swaps.
+    [[gnu::always_inline]] static uint32_t shuffleBySwaps(uint32_t index, uint32_t shuffle) {
+        return detail::reverseBitsBySwaps(detail::upwardHash(detail::reverseBitsBySwaps(index), shuffle));
     }
 
     uint32_t shuffle_, scrambleX_, scrambleY_;

@@ -223,6 +223,24 @@ bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
     return false;
 }
 
+constexpr int kLaneWidth = ShadowLanes::kWidth;
+static_assert(kLaneWidth == OwenSobol2D::kLanes && kLaneWidth == LightLanes::kWidth);
+
+// The light samples of the first m lanes of `at`, lane c's being sample ks[c]
+// of the n that camera sample indices[c] draws from the sequence of keys[c]
+// (where want[c]), traced as one packet: the unoccluded samples' weights into
+// added[c] (Rgb{} for the others). Returns the shadow rays traced.
+uint32_t traceLightLanes(const Light& light, const ShadowLanes& at, const uint64_t (&keys)[kLaneWidth],
+                         const uint32_t (&indices)[kLaneWidth], uint32_t n, const uint32_t (&ks)[kLaneWidth],
+                         const int32_t* want, int m, float nBrdf, const Accelerator& accel, Rgb* added) {
+    // Every lane's point, also where it is not needed: one loop, no branches.
+    alignas(64) float ux[kLaneWidth], uy[kLaneWidth];
+    OwenSobol2D::pointLanes(keys, indices, n, ks, ux, uy);
+    LightLanes samples;
+    light.sampleLanes(at.points(), ux, uy, want, m, samples);
+    return at.trace(samples, m, float(n), nBrdf, accel, added);
+}
+
 }  // namespace
 
 void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth,
@@ -287,24 +305,54 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                     for (size_t q = 0; q < nLit; ++q) shadowLanes.setLane(int(q), lanes[lit[q]].sp, mis[lit[q]]);
                     shadowLanesSet = true;
                 }
-                constexpr int W = OwenSobol2D::kLanes;
-                static_assert(kMaxBatch <= size_t(W));
-                alignas(64) int32_t reach[W];
-                alignas(64) uint64_t keys[W];
-                alignas(64) uint32_t indices[W];
-                alignas(64) float ux[W], uy[W];
+                alignas(64) int32_t reach[kLaneWidth];
+                alignas(64) uint64_t keys[kLaneWidth];
+                alignas(64) uint32_t indices[kLaneWidth];
+                alignas(64) const uint32_t first[kLaneWidth] = {};
                 light.mayReachLanes(shadowLanes.points(), int(nLit), reach);
-                for (size_t q = 0; q < size_t(W); ++q) {
+                for (size_t q = 0; q < size_t(kLaneWidth); ++q) {
                     keys[q] = q < nLit ? dimensionKey(lanes[lit[q]].key, dim) : 0;
                     indices[q] = q < nLit ? lanes[lit[q]].key.index : 0;
                 }
-                // Every lane's point, also where it is not needed: one loop, no branches.
-                OwenSobol2D::pointLanes(keys, indices, ux, uy);
-                LightLanes samples;
-                light.sampleLanes(shadowLanes.points(), ux, uy, reach, int(nLit), samples);
                 ScratchArray<Rgb, kMaxBatch> added;
-                counts.shadow += shadowLanes.trace(samples, int(nLit), float(n), float(nBrdf), accel_, added.data());
+                counts.shadow += traceLightLanes(light, shadowLanes, keys, indices, 1, first, reach, int(nLit),
+                                                 float(nBrdf), accel_, added.data());
                 for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += added[q] * invN;
+                continue;
+            }
+            if (!area && n < uint32_t(kLaneWidth)) {
+                // 2 to 15 samples per lane: the lanes of a packet are (shading point, sample) pairs,
+                // point by point and each point's samples in order, so that a point's sum takes its
+                // samples in sample order whatever the batch holds.
+                ShadowLanes pairs;
+                alignas(64) uint64_t keys[kLaneWidth] = {};
+                alignas(64) uint32_t indices[kLaneWidth] = {}, sampleOf[kLaneWidth] = {};
+                alignas(64) int32_t want[kLaneWidth];
+                uint8_t owner[kLaneWidth];
+                int m = 0;
+                const auto tracePairs = [&] {
+                    ScratchArray<Rgb, kLaneWidth> added;
+                    counts.shadow += traceLightLanes(light, pairs, keys, indices, n, sampleOf, want, m, float(nBrdf),
+                                                     accel_, added.data());
+                    for (int c = 0; c < m; ++c) acc[owner[c]] += added[c];
+                    m = 0;
+                };
+                for (size_t q = 0; q < nLit; ++q) {
+                    const PathLane& lane = lanes[lit[q]];
+                    if (!light.mayReach(lane.sp.p, lane.sp.ng)) continue;  // every sample would be discarded
+                    const uint64_t key = dimensionKey(lane.key, dim);
+                    for (uint32_t k = 0; k < n; ++k) {
+                        pairs.setLane(m, lane.sp, mis[lit[q]]);
+                        keys[m] = key;
+                        indices[m] = lane.key.index;
+                        sampleOf[m] = k;
+                        want[m] = 1;
+                        owner[m] = lit[q];
+                        if (++m == kLaneWidth) tracePairs();
+                    }
+                }
+                if (m > 0) tracePairs();
+                for (size_t q = 0; q < nLit; ++q) sum[lit[q]] += acc[lit[q]] * invN;
                 continue;
             }
             if (!area && n >= uint32_t(ShadowLanes::kWidth)) {

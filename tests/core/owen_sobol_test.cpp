@@ -165,11 +165,34 @@ TEST(OwenSobol, PointLanesArePointsBitForBit) {
             indices[l] = l == 0 ? 0u : l == 1 ? ~0u : uint32_t(mix64(uint64_t(l) + salt) >> (8 * salt));
         }
         float x[OwenSobol2D::kLanes], y[OwenSobol2D::kLanes];
-        OwenSobol2D::pointLanes(keys, indices, x, y);
+        const uint32_t first[OwenSobol2D::kLanes] = {};
+        OwenSobol2D::pointLanes(keys, indices, 1, first, x, y);
         for (int l = 0; l < OwenSobol2D::kLanes; ++l) {
             const Vec2f p = OwenSobol2D(keys[l]).point(indices[l]);
             EXPECT_EQ(x[l], p.x) << "lane " << l;
             EXPECT_EQ(y[l], p.y) << "lane " << l;
+        }
+    }
+}
+
+TEST(OwenSobol, PointLanesOfSeveralSamplesAreSamplePointsBitForBit) {
+    // Lanes as (shading point, sample) pairs: each its own key, camera sample
+    // and sample of n, for powers of two (the block path) and other counts.
+    for (const uint32_t n : {2u, 3u, 4u, 7u, 8u, 15u}) {
+        uint64_t keys[OwenSobol2D::kLanes];
+        uint32_t indices[OwenSobol2D::kLanes], ks[OwenSobol2D::kLanes];
+        for (int l = 0; l < OwenSobol2D::kLanes; ++l) {
+            keys[l] = mix64(uint64_t(l / 3) * 31 + n);
+            indices[l] = l < 3 ? 0u : uint32_t(mix64(uint64_t(l / 3) + n) >> 40);
+            ks[l] = uint32_t(l) % n;
+        }
+        float x[OwenSobol2D::kLanes], y[OwenSobol2D::kLanes];
+        OwenSobol2D::pointLanes(keys, indices, n, ks, x, y);
+        for (int l = 0; l < OwenSobol2D::kLanes; ++l) {
+            Vec2f want;
+            OwenSobol2D(keys[l]).samplePoints(indices[l], n, ks[l], 1, &want);
+            EXPECT_EQ(x[l], want.x) << "n " << n << ", lane " << l;
+            EXPECT_EQ(y[l], want.y) << "n " << n << ", lane " << l;
         }
     }
 }

@@ -55,6 +55,39 @@ std::optional<LightSample> solidAngleSample(const Vec3f& p, const Vec3f& point, 
     return LightSample{Le, d / dist, point, dist, 1.f / solidAngle, false};
 }
 
+// areaLightSample as the body of a loop over lanes: lane l's point q on the
+// emitter (unit normal n, area pdf pdfArea) seen from p, into out's lane l;
+// want: whether the lane asked for a sample. signMask clears the sign bit of
+// cos(theta') where the emitter is two-sided (std::fabs): a select on
+// twoSided would keep the loop from vectorising; the mask does not.
+[[gnu::always_inline]] inline void areaSampleLane(int l, float qx, float qy, float qz, float px, float py, float pz,
+                                                  const Vec3f& n, float pdfArea, uint32_t signMask, const Rgb& Le,
+                                                  int32_t want, LightLanes& out) {
+    const float dx = qx - px, dy = qy - py, dz = qz - pz;
+    const float dist2 = dx * dx + dy * dy + dz * dz;
+    const float dist = std::sqrt(dist2);
+    const float inv = 1.f / dist;
+    const float wx = dx * inv, wy = dy * inv, wz = dz * inv;
+    const float cosLight = std::bit_cast<float>(std::bit_cast<uint32_t>(-(n.x * wx + n.y * wy + n.z * wz)) & signMask);
+    const float pdf = pdfArea * dist2 / cosLight;
+    const int32_t ok =
+        (dist2 > 0.f) & (pdfArea > 0.f) & (cosLight > 0.f) & (std::fabs(pdf) < kInfinity) & (pdf > 0.f);
+    out.ok[l] = want & ok;
+    out.wx[l] = wx;
+    out.wy[l] = wy;
+    out.wz[l] = wz;
+    out.qx[l] = qx;
+    out.qy[l] = qy;
+    out.qz[l] = qz;
+    out.distance[l] = dist;
+    out.pdf[l] = pdf;
+    out.Lr[l] = Le.r;
+    out.Lg[l] = Le.g;
+    out.Lb[l] = Le.b;
+}
+
+constexpr uint32_t signMaskOf(bool twoSided) { return twoSided ? 0x7fffffffu : 0xffffffffu; }
+
 // rectangleAreaSample (areaLightSample at corner + u.x edgeA + u.y edgeB) at
 // each lane l < n, as one loop: the shading point of lane l is (px[l], py[l],
 // pz[l]), or (px[0], py[0], pz[0]) for every lane where kOnePoint. Inlined
@@ -64,36 +97,15 @@ template <bool kOnePoint>
                                                       const float* pz, const float* ux, const float* uy,
                                                       const int32_t* want, int n, LightLanes& out) {
     const Vec3f c = r.corner, ea = r.edgeA, eb = r.edgeB, fn = r.n;
-    const float pdfArea = r.pdfArea, Lr = r.Le.r, Lg = r.Le.g, Lb = r.Le.b;
+    const float pdfArea = r.pdfArea;
     const uint32_t signMask = r.signMask;
+    const Rgb Le = r.Le;
     for (int l = 0; l < n; ++l) {
         const int i = kOnePoint ? 0 : l;
         const float qx = c.x + ux[l] * ea.x + uy[l] * eb.x;
         const float qy = c.y + ux[l] * ea.y + uy[l] * eb.y;
         const float qz = c.z + ux[l] * ea.z + uy[l] * eb.z;
-        const float dx = qx - px[i], dy = qy - py[i], dz = qz - pz[i];
-        const float dist2 = dx * dx + dy * dy + dz * dz;
-        const float dist = std::sqrt(dist2);
-        const float inv = 1.f / dist;
-        const float wx = dx * inv, wy = dy * inv, wz = dz * inv;
-        // A select on twoSided would keep this loop from vectorising; the mask does not.
-        const float cosLight =
-            std::bit_cast<float>(std::bit_cast<uint32_t>(-(fn.x * wx + fn.y * wy + fn.z * wz)) & signMask);
-        const float pdf = pdfArea * dist2 / cosLight;
-        const int32_t ok = (dist2 > 0.f) & (pdfArea > 0.f) & (cosLight > 0.f) & (std::fabs(pdf) < kInfinity) &
-                           (pdf > 0.f);
-        out.ok[l] = (kOnePoint ? 1 : want[l]) & ok;
-        out.wx[l] = wx;
-        out.wy[l] = wy;
-        out.wz[l] = wz;
-        out.qx[l] = qx;
-        out.qy[l] = qy;
-        out.qz[l] = qz;
-        out.distance[l] = dist;
-        out.pdf[l] = pdf;
-        out.Lr[l] = Lr;
-        out.Lg[l] = Lg;
-        out.Lb[l] = Lb;
+        areaSampleLane(l, qx, qy, qz, px[i], py[i], pz[i], fn, pdfArea, signMask, Le, kOnePoint ? 1 : want[l], out);
     }
 }
 
@@ -253,7 +265,7 @@ PENUMBRA_LANE_CLONES void ShapeAreaLight::rectangleSampleManyLanes(const Vec3f& 
 }
 
 RectangleLanes ShapeAreaLight::rectangleLanes() const {
-    return RectangleLanes{corner_, edgeA_, edgeB_, frame_.n, pdfArea_, twoSided_ ? 0x7fffffffu : 0xffffffffu, Le_};
+    return RectangleLanes{corner_, edgeA_, edgeB_, frame_.n, pdfArea_, signMaskOf(twoSided_), Le_};
 }
 
 void ShapeAreaLight::sampleMany(const Vec3f& p, std::span<const Vec2f> u,
@@ -470,6 +482,104 @@ std::optional<LightSample> MeshAreaLight::sampleArea(const Vec3f& p, Vec2f u) co
 
 bool MeshAreaLight::mayReach(const Vec3f& p, const Vec3f& n) const {
     return dot(boundCenter_ - p, n) + std::sqrt(boundRadius2_) > 0.f;
+}
+
+void MeshAreaLight::mayReachLanes(const LanePoints& at, int n, int32_t* reach) const { reachLanes(at, n, reach); }
+
+PENUMBRA_LANE_CLONES void MeshAreaLight::reachLanes(const LanePoints& at, int n, int32_t* reach) const {
+    // mayReach on the lanes' arrays.
+    const Vec3f c = boundCenter_;
+    const float r = std::sqrt(boundRadius2_);
+    for (int l = 0; l < n; ++l)
+        reach[l] = (c.x - at.px[l]) * at.nx[l] + (c.y - at.py[l]) * at.ny[l] + (c.z - at.pz[l]) * at.nz[l] + r > 0.f;
+}
+
+void MeshAreaLight::sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
+                                LightLanes& out) const {
+    if (triangles_.size() <= kSolidAnglePickMax) {
+        smallMeshSampleLanes(at, ux, uy, want, n, out);
+    } else {
+        Light::sampleLanes(at, ux, uy, want, n, out);
+    }
+}
+
+PENUMBRA_LANE_CLONES void MeshAreaLight::smallMeshSampleLanes(const LanePoints& at, const float* ux, const float* uy,
+                                                              const int32_t* want, int n, LightLanes& out) const {
+    // What sample() gives at each lane, in passes: which points are near
+    // enough for solid-angle sampling, and every lane's area sample (pick()
+    // and sampleArea()), as loops over the lanes; then the near points'
+    // samples one by one through sample() (each has its own solid angles).
+    // The picked triangle's data is selected triangle by triangle, which a
+    // loop over lanes does without gathers: lights this small have few.
+    constexpr int W = LanePoints::kWidth;
+    if (triangles_.empty() || !(totalArea_ > 0.f)) {
+        for (int l = 0; l < n; ++l) out.ok[l] = 0;
+        return;
+    }
+    const int count = int(triangles_.size());
+    const Vec3f bc = boundCenter_;
+    const float r2 = boundRadius2_, total = totalArea_;
+    alignas(64) int32_t near[W], pick[W];
+    alignas(64) float target[W];
+    int anyNear = 0;
+    for (int l = 0; l < W; ++l) {
+        target[l] = 0.f;  // lanes past n: any triangle, never read back
+        pick[l] = 0;
+    }
+    for (int l = 0; l < n; ++l) {
+        const Vec3f p{at.px[l], at.py[l], at.pz[l]};
+        near[l] = want[l] & int32_t(subtendsAtLeast(bc, r2, p, kSolidAngleSamplingMinBound));
+        anyNear |= near[l];
+        target[l] = ux[l] * total;
+    }
+    // pick(): the first triangle whose cumulative area exceeds the target (upper_bound), the last at most.
+    for (int j = 0; j < count; ++j) {
+        const float c = cdf_[j];
+        for (int l = 0; l < W; ++l) pick[l] += int32_t(c <= target[l]);
+    }
+    alignas(64) float p0x[W], p0y[W], p0z[W], e1x[W], e1y[W], e1z[W], e2x[W], e2y[W], e2z[W];
+    alignas(64) float nx[W], ny[W], nz[W], lo[W], hi[W];
+    for (int j = 0; j < count; ++j) {
+        const Triangle& t = triangles_[size_t(j)];
+        const float tlo = j ? cdf_[size_t(j) - 1] : 0.f, thi = cdf_[size_t(j)];
+        const bool last = j == count - 1;
+        for (int l = 0; l < W; ++l) {
+            const bool take = j == 0 || pick[l] == j || (last && pick[l] > j);
+            p0x[l] = take ? t.p0.x : p0x[l];
+            p0y[l] = take ? t.p0.y : p0y[l];
+            p0z[l] = take ? t.p0.z : p0z[l];
+            e1x[l] = take ? t.e1.x : e1x[l];
+            e1y[l] = take ? t.e1.y : e1y[l];
+            e1z[l] = take ? t.e1.z : e1z[l];
+            e2x[l] = take ? t.e2.x : e2x[l];
+            e2y[l] = take ? t.e2.y : e2y[l];
+            e2z[l] = take ? t.e2.z : e2z[l];
+            nx[l] = take ? t.n.x : nx[l];
+            ny[l] = take ? t.n.y : ny[l];
+            nz[l] = take ? t.n.z : nz[l];
+            lo[l] = take ? tlo : lo[l];
+            hi[l] = take ? thi : hi[l];
+        }
+    }
+    const float pdfArea = 1.f / totalArea_;
+    const uint32_t signMask = signMaskOf(twoSided_);
+    for (int l = 0; l < n; ++l) {
+        // pick()'s reuse of u.x inside the triangle, then squareToTriangle.
+        const float triArea = hi[l] - lo[l];
+        const float r = (target[l] - lo[l]) / triArea;
+        const float rescaled = triArea > 0.f ? (r < 0.f ? 0.f : (0x1.fffffep-1f < r ? 0x1.fffffep-1f : r)) : 0.5f;
+        const float su = std::sqrt(rescaled);
+        const float bx = 1.f - su, by = uy[l] * su;
+        const float qx = p0x[l] + bx * e1x[l] + by * e2x[l];
+        const float qy = p0y[l] + bx * e1y[l] + by * e2y[l];
+        const float qz = p0z[l] + bx * e1z[l] + by * e2z[l];
+        areaSampleLane(l, qx, qy, qz, at.px[l], at.py[l], at.pz[l], Vec3f{nx[l], ny[l], nz[l]}, pdfArea, signMask, Le_,
+                       want[l], out);
+    }
+    // The near points' samples replace their area samples.
+    if (!anyNear) return;
+    for (int l = 0; l < n; ++l)
+        if (near[l]) out.set(l, sample(at.p(l), Vec2f{ux[l], uy[l]}));
 }
 
 Rgb MeshAreaLight::power() const { return Le_ * (totalArea_ * kPi * (twoSided_ ? 2.f : 1.f)); }

@@ -106,6 +106,9 @@ public:
     float pdf(const Vec3f& p, const Hit& onLight) const override;
     std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
     bool mayReach(const Vec3f& p, const Vec3f& n) const override;
+    void mayReachLanes(const LanePoints& at, int n, int32_t* reach) const override;
+    void sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
+                     LightLanes& out) const override;
     Rgb power() const override;
     float area() const { return totalArea_; }
     size_t triangleCount() const { return triangles_.size(); }
@@ -129,6 +132,10 @@ private:
     /// its solid angle from p when already known (< 0: compute it).
     std::optional<LightSample> sampleTriangle(size_t i, const Vec3f& p, Vec2f u, float share, float omega) const;
     float trianglePdf(size_t i, const Vec3f& p, const Vec3f& point, float share, float omega) const;
+    /// mayReachLanes, and sampleLanes of a light of at most kSolidAnglePickMax triangles: loops over the lanes.
+    void reachLanes(const LanePoints& at, int n, int32_t* reach) const;
+    void smallMeshSampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
+                              LightLanes& out) const;
 
     Rgb Le_;
     bool twoSided_;

@@ -310,6 +310,44 @@ TEST(LightSampling, SampleLanesGiveWhatSampleGivesLaneByLane) {
     }
 }
 
+TEST(LightSampling, MeshLightSampleLanesGiveWhatSampleGivesLaneByLane) {
+    // A quad of two triangles of unequal area, a box of 12 (both picked by
+    // triangle in the lanes) and a grid of 40 (more than kSolidAnglePickMax:
+    // the default, lane by lane); one- and two-sided.
+    for (const bool twoSided : {false, true}) {
+        Scene s = emitterScene(twoSided);
+        TriangleMesh quad;
+        for (const Vec3f v : {Vec3f{-1, 0.5f, -1}, Vec3f{1, 0.5f, -0.8f}, Vec3f{1.2f, 0.6f, 1}, Vec3f{-1, 0.5f, 0.2f}})
+            quad.positions.push_back(v);
+        quad.indices = {0, 1, 2, 0, 2, 3};
+        s.meshes.push_back(quad);
+        TriangleMesh box;
+        for (int v = 0; v < 8; ++v)
+            box.positions.push_back(Vec3f{v & 1 ? 0.9f : -0.4f, v & 2 ? 0.8f : -0.3f, v & 4 ? 0.5f : -1.1f});
+        box.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                       2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+        s.meshes.push_back(box);
+        TriangleMesh grid;
+        constexpr int kCols = 5, kRows = 4;
+        for (int r = 0; r <= kRows; ++r)
+            for (int c = 0; c <= kCols; ++c)
+                grid.positions.push_back(Vec3f{-1.f + 0.4f * float(c), 0.7f + 0.05f * float(r * c), -1.f + 0.5f * float(r)});
+        for (uint32_t r = 0; r < kRows; ++r)
+            for (uint32_t c = 0; c < kCols; ++c) {
+                const uint32_t a = r * (kCols + 1) + c, b = a + 1, d = a + kCols + 1, e = d + 1;
+                for (const uint32_t i : {a, d, b, b, d, e}) grid.indices.push_back(i);
+            }
+        s.meshes.push_back(grid);
+        SCOPED_TRACE(twoSided ? "two-sided" : "one-sided");
+        for (uint32_t mesh = 0; mesh < 3; ++mesh) {
+            std::vector<uint32_t> tris(s.meshes[mesh].triangleCount());
+            for (uint32_t t = 0; t < tris.size(); ++t) tris[t] = t;
+            SCOPED_TRACE(testing::Message() << tris.size() << " triangles");
+            expectLanesMatchSample(MeshAreaLight(s, mesh, 0, tris), 21 + mesh);
+        }
+    }
+}
+
 TEST(LightSampling, SampleManyLanesGiveWhatSampleGivesPointByPoint) {
     // One shading point's samples as lanes: near (spherical rectangle), far (by area), behind
     // (nothing); a parallelogram, a disk and a mesh light (the default, through sampleMany).

@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_encoder_process.h"
 #include "core/oiio_library.h"
 
 namespace penumbra {
@@ -57,16 +58,21 @@ std::vector<oiio::Attribute> metadataAttributes(const ImageMetadata& m) {
     return a;
 }
 
-// OpenImageIO encodes into memory; the bytes are written by StagedFile.
-Bytes encodeWithOiio(const fs::path& path, oiio::EncodeRequest& rq) {
+// OpenImageIO encodes into memory (in the helper process where there is one);
+// the bytes are written by StagedFile.
+Bytes encodeWithOiio(const fs::path& path, oiio::EncodeRequest& rq, ImageEncoderProcess* encoder) {
+    Bytes out;
+    std::string error;
+    if (const std::optional<bool> done = encoder ? encoder->encode(rq, out, error) : std::nullopt) {
+        if (!*done) writeFailed(path, error.empty() ? std::string("encoding failed") : error);
+        return out;
+    }
     const oiio::Api* api = nullptr;
     try {
         api = &oiioLibrary();
     } catch (const Error& e) {
         writeFailed(path, e.what());
     }
-    Bytes out;
-    std::string error;
     if (!api->encode(rq, out, error)) writeFailed(path, error.empty() ? std::string("encoding failed") : error);
     return out;
 }
@@ -114,7 +120,7 @@ Bytes encodeAovExr(const fs::path& path, const Film& film, const ImageWriteOptio
         p[c++] = film.depth(i);
     }
     rq.pixels = px.data();
-    return encodeWithOiio(path, rq);
+    return encodeWithOiio(path, rq, options.encoder);
 }
 
 // The whole file's bytes in memory, for every format.
@@ -139,7 +145,7 @@ Bytes encodeImage(const fs::path& path, ImageFormat fmt, const Film& film, const
         if (fmt == ImageFormat::Exr) placeCrop(rq, options);
         const std::vector<float> px = film.radianceBuffer(3);
         rq.pixels = px.data();
-        return encodeWithOiio(path, rq);
+        return encodeWithOiio(path, rq, options.encoder);
     }
     if (fmt == ImageFormat::Jpg && (w > kMaxJpegSide || h > kMaxJpegSide))
         writeFailed(path, "JPEG stores at most " + std::to_string(kMaxJpegSide) + " pixels a side, the image is " +
@@ -159,7 +165,7 @@ Bytes encodeImage(const fs::path& path, ImageFormat fmt, const Film& film, const
         px[3 * i + 2] = uint8_t(std::lround(linearToSrgb(L.b) * 255.f));
     }
     rq.pixels = px.data();
-    return encodeWithOiio(path, rq);
+    return encodeWithOiio(path, rq, options.encoder);
 }
 
 }  // namespace

@@ -1,12 +1,14 @@
 // OpenImageIO lives in libpenumbra_oiio.so, loaded on the first image (issue
 // 14): `penumbra --help` and a render to PFM never load it; an EXR render
-// loads it once, from beside libpenumbra.so. Checked with the dynamic
+// loads it once, from beside libpenumbra.so, in the helper process that
+// encodes the image while the renderer renders. Checked with the dynamic
 // linker's own trace (LD_DEBUG=files).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "support/test_support.h"
@@ -32,6 +34,14 @@ bool loads(const std::string& trace, const std::string& library) {
     return trace.find("file=" + library) != std::string::npos;
 }
 
+// The process id that the trace's first line naming `library` starts with ("  PID:\tfile=...").
+long loaderOf(const std::string& trace, const std::string& library) {
+    const size_t at = trace.find("file=" + library);
+    if (at == std::string::npos) return -1;
+    const size_t line = trace.rfind('\n', at) + 1;  // npos + 1 == 0: the first line
+    return std::strtol(trace.c_str() + line, nullptr, 10);
+}
+
 TEST(ImageModule, LoadedOnlyByProcessesThatTouchAnImage) {
     const auto dir = test::tempDir();
     const std::string scene = test::assetPath("cornell/cornell.obj").string() + " -q --width 8 --height 8 --spp 1";
@@ -48,6 +58,11 @@ TEST(ImageModule, LoadedOnlyByProcessesThatTouchAnImage) {
     std::string exr = tracedRun(scene + " -o " + (dir / "a.exr").string(), &code);
     EXPECT_EQ(code, 0) << exr;
     EXPECT_TRUE(loads(exr, "libOpenImageIO")) << exr.substr(0, 2000);
+    // By the helper process that encodes the image, not by the renderer (pnb::ImageEncoder).
+    const long renderer = loaderOf(exr, "libembree3"), helper = loaderOf(exr, "libOpenImageIO");
+    EXPECT_GT(renderer, 0) << exr.substr(0, 2000);
+    EXPECT_GT(helper, 0);
+    EXPECT_NE(helper, renderer) << "the renderer loaded OpenImageIO itself";
     // Found by its full path (beside libpenumbra.so, or ../lib), not through the search path.
     EXPECT_NE(exr.find("file=" + (test::binaryDir().parent_path() / "lib" / "libpenumbra_oiio.so").string()),
               std::string::npos)

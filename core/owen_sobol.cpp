@@ -39,6 +39,19 @@ PENUMBRA_LANE_CLONES void OwenSobol2D::samplePointLanes(uint32_t index, uint32_t
         const uint32_t log2n = uint32_t(std::countr_zero(n));
         const uint32_t low = log2n >= 32 ? ~0u : (1u << log2n) - 1u;
         const uint32_t base = detail::owenScramble(log2n >= 32 ? 0u : index << log2n, shuffle_) & ~low;
+        static_assert(kLanes == 16, "kSobolSecondOfLane holds 16 lanes");
+        if (low >= uint32_t(kLanes - 1) && first % uint32_t(kLanes) == 0) {
+            // The 16 lanes are high | k, k < 16, with high's low four bits clear.
+            // Sobol's matrix is linear over GF(2), so the second dimension of
+            // high | k is that of high xor that of k: one column sum for all
+            // lanes, and a constant per lane.
+            const uint32_t high = base | (first & low);
+            const uint32_t sobolHigh = detail::sobolSecondReversedByColumns(high);
+            for (int k = 0; k < kLanes; ++k)
+                shuffledPointFromSobol(high | uint32_t(k), sobolHigh ^ detail::kSobolSecondOfLane.v[k], scrambleX_, scrambleY_,
+                                       x[k], y[k]);
+            return;
+        }
         for (int k = 0; k < kLanes; ++k) shuffled[k] = base | ((first + uint32_t(k)) & low);
     } else {
         for (int k = 0; k < kLanes; ++k) shuffled[k] = shuffleBySwaps(index * n + first + uint32_t(k), shuffle_);

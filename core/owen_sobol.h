@@ -134,6 +134,17 @@ inline uint32_t sobolSecondReversedByColumns(uint32_t i) {
     return y;
 }
 
+/// sobolSecondReversed(k) for k = 0 .. 15: the lanes' share of a block's points.
+struct SobolSecondOfSixteen {
+    uint32_t v[16];
+    constexpr SobolSecondOfSixteen() : v{} {
+        for (int k = 0; k < 16; ++k)
+            for (int j = 0; j < 4; ++j)
+                if (k >> j & 1) v[k] ^= kSobolSecondColumnsReversed.v[j];
+    }
+};
+inline constexpr SobolSecondOfSixteen kSobolSecondOfLane{};
+
 /// Second Sobol dimension of index i, as a 0.32 fixed-point value.
 inline uint32_t sobolSecond(uint32_t i) { return reverseBits(sobolSecondReversed(i)); }
 
@@ -221,10 +232,15 @@ private:
     // dimension by columns (no tables): for loops over lanes, which vectorise.
     [[gnu::always_inline]] static void shuffledPointBySwaps(uint32_t i, uint32_t scrambleX, uint32_t scrambleY,
                                                             float& x, float& y) {
-        x = detail::fixedToUnit(detail::reverseBitsBySwaps(detail::upwardHash(i, scrambleX)));
-        y = detail::fixedToUnit(
-            detail::reverseBitsBySwaps(detail::upwardHash(detail::sobolSecondReversedByColumns(i), scrambleY)));
+        shuffledPointFromSobol(i, detail::sobolSecondReversedByColumns(i), scrambleX, scrambleY, x, y);
     }
+    // The same, given sobolSecondReversed(i).
+    [[gnu::always_inline]] static void shuffledPointFromSobol(uint32_t i, uint32_t sobol, uint32_t scrambleX,
+                                                              uint32_t scrambleY, float& x, float& y) {
+        x = detail::fixedToUnit(detail::reverseBitsBySwaps(detail::upwardHash(i, scrambleX)));
+        y = detail::fixedToUnit(detail::reverseBitsBySwaps(detail::upwardHash(sobol, scrambleY)));
+    }
+
     // The shuffled index of point `index` (point()'s shuffle), by swaps.
     [[gnu::always_inline]] static uint32_t shuffleBySwaps(uint32_t index, uint32_t shuffle) {
         return detail::reverseBitsBySwaps(detail::upwardHash(detail::reverseBitsBySwaps(index), shuffle));

@@ -1,5 +1,6 @@
 #include "core/image_encoder_process.h"
 
+#include <fcntl.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -224,6 +225,14 @@ std::unique_ptr<ImageEncoderProcess> ImageEncoderProcess::start() {
         ::close(sv[0]);
         ::prctl(PR_SET_PDEATHSIG, SIGKILL);
         if (::getppid() != parent) ::_exit(0);  // the parent died before the line above
+        // The helper reads and writes nothing but the socket: it must not hold the
+        // parent's stdin or stdout open (a reader of the parent's output waits for
+        // every writer to close it). stderr stays, for what a library reports.
+        if (const int null = ::open("/dev/null", O_RDWR | O_CLOEXEC); null >= 0) {
+            ::dup2(null, STDIN_FILENO);
+            ::dup2(null, STDOUT_FILENO);
+            if (null > STDERR_FILENO) ::close(null);
+        }
         serve(sv[1]);
     }
     ::close(sv[1]);

@@ -23,6 +23,7 @@ Box makeBox(const Vec3f& lo, const Vec3f& hi, const Transform& worldFromObject, 
     b.lo = lo;
     b.hi = hi;
     b.worldFromObject = worldFromObject;
+    b.identity = worldFromObject.isIdentity();
     if (!worldFromObject.inverse(b.objectFromWorld)) {
         // A singular transform flattens the box to nothing visible; an
         // inverted (empty) slab makes every test miss instead of producing NaN.
@@ -106,7 +107,10 @@ std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
 }
 
 void completeHit(const Box& b, const Ray& ray, float t, Hit& h) {
-    Vec3f po = b.objectFromWorld.applyPoint(ray.o) + t * b.objectFromWorld.applyVector(ray.d);
+    // An axis-aligned box (most are) skips the transforms: the same values,
+    // up to the sign of zero components.
+    Vec3f po = b.identity ? ray.o + t * ray.d
+                          : b.objectFromWorld.applyPoint(ray.o) + t * b.objectFromWorld.applyVector(ray.d);
     // The face is the slab whose plane the point lies closest to (relative to
     // the box size); snap the point onto it.
     const Vec3f ext = max(b.hi - b.lo, Vec3f(1e-30f));
@@ -122,8 +126,8 @@ void completeHit(const Box& b, const Ray& ray, float t, Hit& h) {
     po[axis] = upper ? b.hi[axis] : b.lo[axis];
     Vec3f no{};
     no[axis] = upper ? 1.f : -1.f;
-    h.p = b.worldFromObject.applyPoint(po);
-    h.ng = h.ns = normalize(b.worldFromObject.applyNormal(no));
+    h.p = b.identity ? po : b.worldFromObject.applyPoint(po);
+    h.ng = h.ns = b.identity ? no : normalize(b.worldFromObject.applyNormal(no));
     const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
     h.uv = {(po[a1] - b.lo[a1]) / ext[a1], (po[a2] - b.lo[a2]) / ext[a2]};
     h.material = b.material;

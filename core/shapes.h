@@ -49,6 +49,7 @@ struct Box {
     Transform worldFromObject;
     Transform objectFromWorld;  // kept in sync by makeBox()
     uint32_t material = 0;
+    bool identity = true;       // worldFromObject is the identity (set by makeBox): hits skip the transforms
 };
 Box makeBox(const Vec3f& lo, const Vec3f& hi, const Transform& worldFromObject = Transform(), uint32_t material = 0);
 

@@ -66,7 +66,7 @@ echo "penumbra --help and a 32-triangle render" >&2
 for i in $(seq 1 10); do timed help penumbra -- "$penumbra" --help; done
 for i in $(seq 1 3); do
   timed cornell32 penumbra -- "$penumbra" "$here/assets/cornell/cornell.obj" --width 64 --height 64 --spp 1 \
-    -o "$tmp/c.png" -q
+    -o "$tmp/c.png" -q --stats-json "$tmp/stats.json"
 done
 
 echo "textbook scenes (render time per camera sample from --stats-json)" >&2

@@ -117,7 +117,8 @@ uint64_t pixelBytes(const oiio::EncodeRequest& rq) {
 Bytes requestMessage(const oiio::EncodeRequest& rq) {
     Writer w;
     w.putString(rq.format);
-    for (const int v : {rq.width, rq.height, rq.channels, int(rq.type), rq.dataX, rq.dataY, rq.fullWidth, rq.fullHeight})
+    for (const int v :
+         {rq.width, rq.height, rq.channels, int(rq.type), rq.dataX, rq.dataY, rq.fullWidth, rq.fullHeight})
         w.put(int32_t(v));
     w.put(uint32_t(rq.channelNames.size()));
     for (const std::string& s : rq.channelNames) w.putString(s);

@@ -48,8 +48,8 @@ PENUMBRA_LANE_CLONES void OwenSobol2D::samplePointLanes(uint32_t index, uint32_t
             const uint32_t high = base | (first & low);
             const uint32_t sobolHigh = detail::sobolSecondReversedByColumns(high);
             for (int k = 0; k < kLanes; ++k)
-                shuffledPointFromSobol(high | uint32_t(k), sobolHigh ^ detail::kSobolSecondOfLane.v[k], scrambleX_, scrambleY_,
-                                       x[k], y[k]);
+                shuffledPointFromSobol(high | uint32_t(k), sobolHigh ^ detail::kSobolSecondOfLane.v[k], scrambleX_,
+                                       scrambleY_, x[k], y[k]);
             return;
         }
         for (int k = 0; k < kLanes; ++k) shuffled[k] = base | ((first + uint32_t(k)) & low);

@@ -331,7 +331,8 @@ TEST(LightSampling, MeshLightSampleLanesGiveWhatSampleGivesLaneByLane) {
         constexpr int kCols = 5, kRows = 4;
         for (int r = 0; r <= kRows; ++r)
             for (int c = 0; c <= kCols; ++c)
-                grid.positions.push_back(Vec3f{-1.f + 0.4f * float(c), 0.7f + 0.05f * float(r * c), -1.f + 0.5f * float(r)});
+                grid.positions.push_back(
+                    Vec3f{-1.f + 0.4f * float(c), 0.7f + 0.05f * float(r * c), -1.f + 0.5f * float(r)});
         for (uint32_t r = 0; r < kRows; ++r)
             for (uint32_t c = 0; c < kCols; ++c) {
                 const uint32_t a = r * (kCols + 1) + c, b = a + 1, d = a + kCols + 1, e = d + 1;

@@ -16,6 +16,7 @@
 #include "core/hit.h"
 #include "core/ray.h"
 #include "core/ray_lanes.h"
+#include "core/scratch_array.h"
 #include "core/scene.h"
 
 namespace penumbra {
@@ -68,10 +69,10 @@ public:
     /// intersectPrimBatch followed by Scene::completeHit.
     void intersectBatch(std::span<const Ray> rays, std::span<std::optional<Hit>> out) const {
         constexpr size_t kChunk = 16;  // one packet: the renderer's batches are 16 rays
-        std::optional<PrimIntersection> thin[kChunk];
+        EmptyOptionals<PrimIntersection, kChunk> thin;
         for (size_t b = 0; b < rays.size(); b += kChunk) {
             const size_t n = std::min(kChunk, rays.size() - b);
-            intersectPrimBatch(rays.subspan(b, n), std::span(thin, n));
+            intersectPrimBatch(rays.subspan(b, n), std::span(thin.data(), n));
             for (size_t i = 0; i < n; ++i) {
                 if (thin[i])
                     scene_.completeHit(rays[b + i], thin[i]->ref, thin[i]->t, thin[i]->u, thin[i]->v, out[b + i].emplace());

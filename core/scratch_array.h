@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <new>
+#include <optional>
 #include <type_traits>
 
 namespace penumbra {
@@ -30,6 +31,30 @@ public:
 
 private:
     alignas(T) unsigned char bytes_[N * sizeof(T)];
+};
+
+/// N empty std::optional<T>, each constructed in place by its default
+/// constructor, which writes its engaged flag alone: GCC clears every byte
+/// of a declared `std::optional<T> a[N]` (the optional's empty member is
+/// value-initialised), 1 KiB for 16 hits, on every batch. For per-batch
+/// result arrays that the accelerators assign or reset element by element.
+template <class T, size_t N>
+class EmptyOptionals {
+    static_assert(std::is_trivially_destructible_v<std::optional<T>>, "nothing to destroy");
+
+public:
+    EmptyOptionals() {
+        for (size_t i = 0; i < N; ++i) new (&bytes_[i * sizeof(std::optional<T>)]) std::optional<T>;
+    }
+    std::optional<T>& operator[](size_t i) { return data()[i]; }
+    const std::optional<T>& operator[](size_t i) const { return data()[i]; }
+    std::optional<T>* data() { return std::launder(reinterpret_cast<std::optional<T>*>(bytes_)); }
+    const std::optional<T>* data() const {
+        return std::launder(reinterpret_cast<const std::optional<T>*>(bytes_));
+    }
+
+private:
+    alignas(std::optional<T>) unsigned char bytes_[N * sizeof(std::optional<T>)];
 };
 
 }  // namespace penumbra

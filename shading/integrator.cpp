@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <array>
 #include <limits>
-#include <memory>
 #include <vector>
 
 namespace penumbra {
@@ -159,7 +158,7 @@ public:
 
     void flush() {
         if (pending_ == 0) return;
-        accel_.intersectBatch(std::span<const Ray>(rays_.data(), pending_), std::span<std::optional<Hit>>(hits_, pending_));
+        accel_.intersectBatch(std::span<const Ray>(rays_.data(), pending_), std::span<std::optional<Hit>>(hits_.data(), pending_));
         counts_.shadow += pending_;
         const EnvironmentLight* env = lights_.environment();
         for (uint32_t i = 0; i < pending_; ++i) {
@@ -193,7 +192,7 @@ private:
     Rgb* sums_;
     float nLight_, nBrdf_;
     ScratchArray<Ray, kPacket> rays_;
-    std::optional<Hit> hits_[kPacket];
+    EmptyOptionals<Hit, kPacket> hits_;
     ScratchArray<Vec3f, kPacket> origins_;
     ScratchArray<Rgb, kPacket> weights_;
     float pdfs_[kPacket];
@@ -476,9 +475,7 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
     counts.camera += n;
     const std::span<PathLane> batch(lanes.data(), n);
     // The hits of each bounce; a lane's hit is read before the next bounce's overwrite it.
-    // Made on the first bounce: most batches have none (diffuse scenes, depth 0), and
-    // GCC clears every byte of an array of optionals where it is declared.
-    std::unique_ptr<std::array<std::optional<Hit>, kMaxBatch>> bounce;
+    EmptyOptionals<Hit, kMaxBatch> bounce;
     for (bool first = true;; first = false) {
         // Emission, ambient and the shading point of every lane still going.
         for (size_t i = 0; i < n; ++i) {
@@ -514,11 +511,9 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
             nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;
-        if (!bounce) bounce = std::make_unique<std::array<std::optional<Hit>, kMaxBatch>>();
-        std::array<std::optional<Hit>, kMaxBatch>& hitsOf = *bounce;
         accel_.intersectBatch(std::span<const Ray>(next.data(), nNext),
-                              std::span<std::optional<Hit>>(hitsOf.data(), nNext));
-        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = hitsOf[c] ? &*hitsOf[c] : nullptr;
+                              std::span<std::optional<Hit>>(bounce.data(), nNext));
+        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = bounce[c] ? &*bounce[c] : nullptr;
     }
     for (size_t i = 0; i < n; ++i) {
         counts.pathLengthSum += uint64_t(lanes[i].longest);

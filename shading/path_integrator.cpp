@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/scratch_array.h"
 #include "lights/environment_light.h"
 #include "shading/dielectric.h"
 #include "shading/mis.h"
@@ -265,7 +266,7 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
     counts.camera += n;
     const std::span<PathVertexLane> batch(lanes, n);
     // The hits of each bounce; a lane's hit is read before the next bounce's overwrite it.
-    std::optional<Hit> nextHits[kMaxBatch];
+    EmptyOptionals<Hit, kMaxBatch> nextHits;
     for (int depth = 0;; ++depth) {
         // Emission (MIS-weighted after a non-specular bounce) and the vertex of every lane still going.
         for (size_t i = 0; i < n; ++i) {
@@ -320,7 +321,7 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
             nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;
-        accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(nextHits, nNext));
+        accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(nextHits.data(), nNext));
         for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c] ? &*nextHits[c] : nullptr;
     }
     for (size_t i = 0; i < n; ++i) {

@@ -9,6 +9,7 @@
 #include "core/denormals.h"
 #include "core/error.h"
 #include "core/io/input_file.h"
+#include "core/scratch_array.h"
 #include "core/multi_jitter.h"
 #include "core/parallel.h"
 #include "core/rgb_image.h"
@@ -133,7 +134,7 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
     }
     Vec2f film[kMax], lens[kMax];
     Ray rays[kMax];
-    std::optional<Hit> hits[kMax];
+    EmptyOptionals<Hit, kMax> hits;
     SampleKey keys[kMax];
     Rgb radiance[kMax];
     FirstHit first[kMax];
@@ -150,15 +151,15 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
                               c.useLens ? std::span<const Vec2f>(lens, count) : std::span<const Vec2f>(),
                               std::span<Ray>(rays, count));
         c.prepared.accelerator().intersectBatch(std::span<const Ray>(rays, count),
-                                                std::span<std::optional<Hit>>(hits, count));
+                                                std::span<std::optional<Hit>>(hits.data(), count));
         const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();
         if (c.path)
-            c.path->radianceBatch(std::span<const Ray>(rays, count), std::span<const std::optional<Hit>>(hits, count),
+            c.path->radianceBatch(std::span<const Ray>(rays, count), std::span<const std::optional<Hit>>(hits.data(), count),
                                   std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count), firstHits,
                                   counts);
         else
             c.integrator.radianceBatch(std::span<const Ray>(rays, count),
-                                       std::span<const std::optional<Hit>>(hits, count),
+                                       std::span<const std::optional<Hit>>(hits.data(), count),
                                        std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count),
                                        firstHits, counts);
         for (size_t i = 0; i < count; ++i) {

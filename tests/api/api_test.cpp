@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <mutex>
 #include <new>
 #include <penumbra/penumbra.hpp>
@@ -362,6 +364,37 @@ TEST(ApiRender, MaterialsCanCarryADiffuseTexture) {
     logging.prepare(s);
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_NE(warnings[0].find("missing.png: cannot read texture"), std::string::npos) << warnings[0];
+}
+
+TEST(ApiRender, AnImageEncoderWritesTheSameFilesAndTheSameErrors) {
+    pnb::ImageEncoder encoder;  // first: it forks, while this test has one thread
+    EXPECT_TRUE(encoder.running());
+    const pnb::Renderer renderer = quietRenderer();
+    pnb::RenderSettings st;
+    st.width = st.height = 21;
+    st.spp = 2;
+    const pnb::Framebuffer image = renderer.render(renderer.prepare(litSphere()), sphereCamera(), st);
+    const auto dir = penumbra::test::tempDir();
+    pnb::ImageOptions helped;
+    helped.encoder = &encoder;
+    helped.exposure = 1.f;
+    pnb::ImageOptions here = helped;
+    here.encoder = nullptr;
+    image.writeImage((dir / "helped.png").string(), helped);
+    image.writeImage((dir / "here.png").string(), here);
+    const auto bytes = [&](const char* name) {
+        std::ifstream in(dir / name, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    EXPECT_GT(bytes("here.png").size(), 100u);
+    EXPECT_EQ(bytes("helped.png"), bytes("here.png"));
+    std::string helpedMsg, hereMsg;
+    EXPECT_EQ(codeOf([&] { image.writeImage((dir / "missing" / "x.png").string(), helped); }, &helpedMsg),
+              pnb::ErrorCode::IoError);
+    EXPECT_EQ(codeOf([&] { image.writeImage((dir / "missing" / "x.png").string(), here); }, &hereMsg),
+              pnb::ErrorCode::IoError);
+    EXPECT_EQ(helpedMsg, hereMsg);
+    EXPECT_TRUE(encoder.running()) << "the helper answered every request";
 }
 
 // ---------------------------------------------------------------- cancellation and jobs

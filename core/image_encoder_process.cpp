@@ -101,6 +101,8 @@ bool sendMessage(int fd, const Bytes& m) {
 
 // Messages larger than this are a broken stream, not an image (16 GiB).
 constexpr uint64_t kMaxMessage = uint64_t(1) << 34;
+// Images of more pixel bytes than this are not sent to the helper (256 MiB: 8K x 8K RGB floats is 768 MiB).
+constexpr uint64_t kMaxHelperPixelBytes = uint64_t(256) << 20;
 
 bool receiveMessage(int fd, Bytes& m) {
     uint64_t n = 0;
@@ -114,7 +116,9 @@ uint64_t pixelBytes(const oiio::EncodeRequest& rq) {
            (rq.type == oiio::PixelType::U8 ? 1u : sizeof(float));
 }
 
-Bytes requestMessage(const oiio::EncodeRequest& rq) {
+// The request without its pixels, which sendRequest sends from where they
+// lie (no copy of an image in the parent), ending with the pixels' length.
+Bytes requestHeader(const oiio::EncodeRequest& rq) {
     Writer w;
     w.putString(rq.format);
     for (const int v :
@@ -130,8 +134,15 @@ Bytes requestMessage(const oiio::EncodeRequest& rq) {
         w.put(a.f);
         w.putString(a.s);
     }
-    w.putBytes(rq.pixels, pixelBytes(rq));
+    w.put(pixelBytes(rq));
     return std::move(w.bytes);
+}
+
+bool sendRequest(int fd, const oiio::EncodeRequest& rq) {
+    const Bytes header = requestHeader(rq);
+    const uint64_t n = header.size() + pixelBytes(rq);
+    return sendAll(fd, &n, sizeof n) && sendAll(fd, header.data(), header.size()) &&
+           sendAll(fd, rq.pixels, size_t(pixelBytes(rq)));
 }
 
 // The request in `m`; rq.pixels points into m.
@@ -256,7 +267,10 @@ void ImageEncoderProcess::stop() {
 std::optional<bool> ImageEncoderProcess::encode(const oiio::EncodeRequest& request, Bytes& out, std::string& error) {
     if (fd_ < 0) return std::nullopt;
     Bytes reply;
-    if (!sendMessage(fd_, requestMessage(request)) || !receiveMessage(fd_, reply)) {
+    // A large image is encoded in-process: copying it to the helper would hold it twice, and the
+    // module's load is then small next to the render that made it.
+    if (pixelBytes(request) > kMaxHelperPixelBytes) return std::nullopt;
+    if (!sendRequest(fd_, request) || !receiveMessage(fd_, reply)) {
         stop();
         return std::nullopt;
     }

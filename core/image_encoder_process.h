@@ -36,8 +36,9 @@ public:
     /// oiio::Api::encode in the helper: true with the encoded bytes in `out`,
     /// or false with the module's message in `error` (also where the helper
     /// could not load the module: the message the in-process load gives).
-    /// nullopt where the helper gave no answer; it is not asked again. One
-    /// call at a time.
+    /// nullopt where the helper gave no answer (it is not asked again) or
+    /// the image is over 256 MiB of pixels (not copied to the helper: encode
+    /// it in-process). One call at a time.
     std::optional<bool> encode(const oiio::EncodeRequest& request, std::vector<unsigned char>& out,
                                std::string& error);
 

@@ -112,6 +112,24 @@ TEST(ImageEncoderProcess, TheModulesErrorComesBackAsItsMessage) {
     EXPECT_GT(out.size(), 8u);
 }
 
+TEST(ImageEncoderProcess, ALargeImageIsLeftToThisProcessAndTheHelperStays) {
+    auto encoder = ImageEncoderProcess::start();
+    ASSERT_NE(encoder, nullptr);
+    oiio::EncodeRequest rq;  // 1.2 GB of pixels: never sent, so none are needed here
+    rq.format = "exr";
+    rq.width = rq.height = 10000;
+    rq.channels = 3;
+    std::vector<unsigned char> out;
+    std::string error;
+    EXPECT_EQ(encoder->encode(rq, out, error), std::nullopt);
+    EXPECT_GT(encoder->pid(), 0);
+    const float pixel[3] = {0.25f, 0.5f, 1.f};
+    rq.width = rq.height = 1;
+    rq.format = "png";
+    rq.pixels = pixel;
+    EXPECT_EQ(encoder->encode(rq, out, error), std::optional<bool>(true)) << error;
+}
+
 TEST(ImageEncoderProcess, AHelperThatDiedLeavesTheWorkToThisProcess) {
     auto encoder = ImageEncoderProcess::start();
     ASSERT_NE(encoder, nullptr);

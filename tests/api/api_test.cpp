@@ -293,12 +293,17 @@ TEST(ApiRender, PreparedScenesRenderManyViewsAndKeepTheSceneUsable) {
     EXPECT_EQ(scene.primitiveCount(), 0u);  // NOLINT(bugprone-use-after-move): documented as empty
 }
 
-TEST(ApiRender, WritesImagesThroughTheLibrary) {
+// The lit sphere rendered size x size at spp samples per pixel.
+pnb::Framebuffer litSphereImage(int size, int spp) {
     const pnb::Renderer renderer = quietRenderer();
     pnb::RenderSettings st;
-    st.width = st.height = 33;
-    st.spp = 4;
-    const pnb::Framebuffer image = renderer.render(renderer.prepare(litSphere()), sphereCamera(), st);
+    st.width = st.height = size;
+    st.spp = spp;
+    return renderer.render(renderer.prepare(litSphere()), sphereCamera(), st);
+}
+
+TEST(ApiRender, WritesImagesThroughTheLibrary) {
+    const pnb::Framebuffer image = litSphereImage(33, 4);
     const auto dir = penumbra::test::tempDir();
     image.writeImage((dir / "sphere.png").string());
     image.writeImage((dir / "sphere.pfm").string());
@@ -369,11 +374,7 @@ TEST(ApiRender, MaterialsCanCarryADiffuseTexture) {
 TEST(ApiRender, AnImageEncoderWritesTheSameFilesAndTheSameErrors) {
     pnb::ImageEncoder encoder;  // first: it forks, while this test has one thread
     EXPECT_TRUE(encoder.running());
-    const pnb::Renderer renderer = quietRenderer();
-    pnb::RenderSettings st;
-    st.width = st.height = 21;
-    st.spp = 2;
-    const pnb::Framebuffer image = renderer.render(renderer.prepare(litSphere()), sphereCamera(), st);
+    const pnb::Framebuffer image = litSphereImage(21, 2);
     const auto dir = penumbra::test::tempDir();
     pnb::ImageOptions helped;
     helped.encoder = &encoder;

@@ -1,7 +1,8 @@
 // The Embree BVH accelerator (Embree 3.13, the only Embree user in Penumbra).
 //
 // Geometry layout, attached by ID so hits map back to the Scene's arrays:
-//   geomID 0      spheres (user geometry), primID = index in Scene::spheres
+//   geomID 0      spheres (user geometry, callbacks over the packet lanes as
+//                 arrays), primID = index in Scene::spheres
 //   geomID 1      boxes as native quads, 6 per box; boxOfQuad_[primID] = box
 //   geomID 2      rectangles as native quads, primID = index in Scene::rectangles
 //   geomID 3      disks (user geometry), primID = index in Scene::disks
@@ -43,6 +44,7 @@
 #include <cstdlib>
 #include <mutex>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "accel/accelerator.h"
@@ -86,9 +88,31 @@ inline Ray rayFromN(RTCRayN* rays, unsigned n, unsigned i) {
     return r;
 }
 
+// Sphere distances of the valid lanes among the N rays of a callback (at
+// most 16 at a time): sphereHitDistance over the lanes as arrays, so that the
+// loop vectorises (spheres are most of what the user geometries answer);
+// +infinity for the lanes that miss or are not valid.
+PENUMBRA_LANE_CLONES void sphereLaneDistances(const Sphere& s, RTCRayN* rays, unsigned n, unsigned first,
+                                              unsigned count, const int* valid, float* t) {
+    const float* ox = &RTCRayN_org_x(rays, n, first);
+    const float* oy = &RTCRayN_org_y(rays, n, first);
+    const float* oz = &RTCRayN_org_z(rays, n, first);
+    const float* dx = &RTCRayN_dir_x(rays, n, first);
+    const float* dy = &RTCRayN_dir_y(rays, n, first);
+    const float* dz = &RTCRayN_dir_z(rays, n, first);
+    const float* tnear = &RTCRayN_tnear(rays, n, first);
+    const float* tfar = &RTCRayN_tfar(rays, n, first);
+    for (unsigned l = 0; l < count; ++l) {
+        const float d = sphereHitDistance(s, ox[l], oy[l], oz[l], dx[l], dy[l], dz[l], tnear[l], tfar[l]);
+        t[l] = valid[first + l] != 0 ? d : kInfinity;
+    }
+}
+
 // Callbacks of one analytic kind. The geometry user pointer is the Scene.
 template <class Shape>
 struct UserShapeCallbacks {
+    static constexpr unsigned kMaxLanes = 16;  // Embree's widest packet
+
     static const Shape& shape(void* userPtr, unsigned primID) {
         return ShapeTraits<Shape>::of(*static_cast<const Scene*>(userPtr))[primID];
     }
@@ -113,29 +137,53 @@ struct UserShapeCallbacks {
         const unsigned n = args->N;
         RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, n);
         RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, n);
+        if constexpr (std::is_same_v<Shape, Sphere>) {
+            for (unsigned first = 0; first < n; first += kMaxLanes) {
+                const unsigned count = std::min(n - first, kMaxLanes);
+                alignas(64) float t[kMaxLanes];
+                sphereLaneDistances(s, rays, n, first, count, args->valid, t);
+                for (unsigned l = 0; l < count; ++l)
+                    if (t[l] < kInfinity) setHit(args, s, rays, hits, first + l, PrimHit{t[l], 0.f, 0.f});
+            }
+            return;
+        }
         for (unsigned i = 0; i < n; ++i) {
             if (args->valid[i] == 0) continue;
-            // The ray's tfar is the closest hit so far; intersect() only
-            // reports t in (tnear, tfar], so a hit here is always closer.
-            const Ray r = rayFromN(rays, n, i);
-            const auto h = intersect(s, r);
-            if (!h) continue;
-            const Vec3f ng = hitNormal(s, r, *h);
-            RTCRayN_tfar(rays, n, i) = h->t;
-            RTCHitN_Ng_x(hits, n, i) = ng.x;
-            RTCHitN_Ng_y(hits, n, i) = ng.y;
-            RTCHitN_Ng_z(hits, n, i) = ng.z;
-            RTCHitN_u(hits, n, i) = h->u;
-            RTCHitN_v(hits, n, i) = h->v;
-            RTCHitN_primID(hits, n, i) = args->primID;
-            RTCHitN_geomID(hits, n, i) = args->geomID;
-            RTCHitN_instID(hits, n, i, 0) = RTC_INVALID_GEOMETRY_ID;
+            const auto h = intersect(s, rayFromN(rays, n, i));
+            if (h) setHit(args, s, rays, hits, i, *h);
         }
+    }
+
+    // Records a hit found in lane i. The ray's tfar is the closest hit so far
+    // and the tests only report t in (tnear, tfar], so the hit is always closer.
+    static void setHit(const RTCIntersectFunctionNArguments* args, const Shape& s, RTCRayN* rays, RTCHitN* hits,
+                       unsigned i, const PrimHit& h) {
+        const unsigned n = args->N;
+        const Vec3f ng = hitNormal(s, rayFromN(rays, n, i), h);
+        RTCRayN_tfar(rays, n, i) = h.t;
+        RTCHitN_Ng_x(hits, n, i) = ng.x;
+        RTCHitN_Ng_y(hits, n, i) = ng.y;
+        RTCHitN_Ng_z(hits, n, i) = ng.z;
+        RTCHitN_u(hits, n, i) = h.u;
+        RTCHitN_v(hits, n, i) = h.v;
+        RTCHitN_primID(hits, n, i) = args->primID;
+        RTCHitN_geomID(hits, n, i) = args->geomID;
+        RTCHitN_instID(hits, n, i, 0) = RTC_INVALID_GEOMETRY_ID;
     }
 
     static void occludedFn(const RTCOccludedFunctionNArguments* args) {
         const Shape& s = shape(args->geometryUserPtr, args->primID);
         const unsigned n = args->N;
+        if constexpr (std::is_same_v<Shape, Sphere>) {
+            for (unsigned first = 0; first < n; first += kMaxLanes) {
+                const unsigned count = std::min(n - first, kMaxLanes);
+                alignas(64) float t[kMaxLanes];
+                sphereLaneDistances(s, args->ray, n, first, count, args->valid, t);
+                for (unsigned l = 0; l < count; ++l)
+                    if (t[l] < kInfinity) RTCRayN_tfar(args->ray, n, first + l) = -kInfinity;
+            }
+            return;
+        }
         for (unsigned i = 0; i < n; ++i) {
             if (args->valid[i] == 0) continue;
             if (intersect(s, rayFromN(args->ray, n, i))) RTCRayN_tfar(args->ray, n, i) = -kInfinity;

@@ -34,32 +34,6 @@ Box makeBox(const Vec3f& lo, const Vec3f& hi, const Transform& worldFromObject, 
     return b;
 }
 
-std::optional<PrimHit> intersect(const Sphere& s, const Ray& r) {
-    if (!(s.radius > 0.f)) return std::nullopt;
-    // Discriminant in the geometric form (Hearn & Baker; Haines et al., Ray
-    // Tracing Gems ch. 7): far more accurate than b^2 - 4ac when the sphere is
-    // small relative to its distance from the ray origin.
-    Vec3f f = r.o - s.center;
-    float a = dot(r.d, r.d);
-    float b = dot(f, r.d);  // half of the usual b
-    float c = dot(f, f) - s.radius * s.radius;
-    Vec3f l = f - (b / a) * r.d;
-    float disc = a * (s.radius * s.radius - dot(l, l));
-    if (disc < 0.f) return std::nullopt;
-    float q = -(b + std::copysign(std::sqrt(disc), b));
-    float t0, t1;
-    if (q == 0.f) {
-        t0 = t1 = -b / a;
-    } else {
-        t0 = q / a;
-        t1 = c / q;
-    }
-    if (t0 > t1) std::swap(t0, t1);
-    if (inRange(t0, r)) return PrimHit{t0, 0.f, 0.f};
-    if (inRange(t1, r)) return PrimHit{t1, 0.f, 0.f};
-    return std::nullopt;
-}
-
 void completeHit(const Sphere& s, const Ray& ray, float t, Hit& h) {
     const Vec3f n = normalize(ray.o + t * ray.d - s.center);
     // Re-project onto the surface: the error is then relative to the

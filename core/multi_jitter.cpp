@@ -5,19 +5,6 @@
 #include "core/hash.h"
 
 namespace penumbra {
-IndexPermutation::IndexPermutation(uint32_t n, uint32_t p) : n_(n) {
-    uint32_t mask = n > 1 ? n - 1 : 0;
-    mask |= mask >> 1;
-    mask |= mask >> 2;
-    mask |= mask >> 4;
-    mask |= mask >> 8;
-    mask |= mask >> 16;
-    mask_ = mask;
-    k0_ = static_cast<uint32_t>(mix64(p));
-    k1_ = static_cast<uint32_t>(mix64(uint64_t(p) + 0x632be59bd9b4e019ULL)) | 1u;
-    k2_ = static_cast<uint32_t>(mix64(uint64_t(p) + 0x85157af5ULL));
-}
-
 MjGrid mjGrid(uint32_t n) {
     uint32_t cols = static_cast<uint32_t>(std::sqrt(static_cast<double>(n)));
     if (cols == 0) cols = 1;
@@ -25,8 +12,7 @@ MjGrid mjGrid(uint32_t n) {
     return {cols, rows};
 }
 
-MultiJitterSet::MultiJitterSet(uint32_t n, uint32_t p, bool tabulate) : n_(n), pattern_(p) {
-    const MjGrid g = mjGrid(n);
+MultiJitterSet::MultiJitterSet(uint32_t n, const MjGrid& g, uint32_t p, bool tabulate) : n_(n), pattern_(p) {
     m_ = g.cols;
     k_ = g.rows;
     invM_ = 1.f / static_cast<float>(m_);
@@ -43,8 +29,6 @@ MultiJitterSet::MultiJitterSet(uint32_t n, uint32_t p, bool tabulate) : n_(n), p
         tabulated_ = true;
     }
 }
-
-uint64_t pixelSampleKey(uint64_t seed, uint64_t pixel) { return hashValues({seed, pixel, 0x5eedULL}); }
 
 uint32_t mjPattern(uint64_t seed, uint64_t pixel, uint64_t set, uint64_t dimension) {
     return static_cast<uint32_t>(hashValues({seed, pixel, set, dimension}));

@@ -25,6 +25,21 @@ private:
     uint32_t n_ = 1, mask_ = 0, k0_ = 0, k1_ = 1, k2_ = 0;
 };
 
+// Inline: the renderer builds a pixel's permutations in every block, and the
+// keys' hashes of several permutations then overlap.
+inline IndexPermutation::IndexPermutation(uint32_t n, uint32_t p) : n_(n) {
+    uint32_t mask = n > 1 ? n - 1 : 0;
+    mask |= mask >> 1;
+    mask |= mask >> 2;
+    mask |= mask >> 4;
+    mask |= mask >> 8;
+    mask |= mask >> 16;
+    mask_ = mask;
+    k0_ = static_cast<uint32_t>(mix64(p));
+    k1_ = static_cast<uint32_t>(mix64(uint64_t(p) + 0x632be59bd9b4e019ULL)) | 1u;
+    k2_ = static_cast<uint32_t>(mix64(uint64_t(p) + 0x85157af5ULL));
+}
+
 inline uint32_t IndexPermutation::operator()(uint32_t i) const {
     if (n_ <= 1) return 0;
     // Each step is a bijection on [0, mask]: xor with a key, multiply by an
@@ -69,7 +84,10 @@ public:
     /// set that will draw many samples: a permutation's cycle-walking loop
     /// takes a data-dependent number of rounds, a mispredicted branch on
     /// most samples, where a table lookup takes none. Same samples either way.
-    MultiJitterSet(uint32_t n, uint32_t pattern, bool tabulate = false);
+    MultiJitterSet(uint32_t n, uint32_t pattern, bool tabulate = false) : MultiJitterSet(n, mjGrid(n), pattern, tabulate) {}
+    /// The same set with its grid given: grid must be mjGrid(n), worked out
+    /// once for the many sets of one size (the renderer's pixels).
+    MultiJitterSet(uint32_t n, const MjGrid& grid, uint32_t pattern, bool tabulate);
     /// Sample s (0 <= s < n) in [0,1)^2.
     Vec2f sample(uint32_t s) const;
     uint32_t size() const { return n_; }
@@ -110,7 +128,7 @@ uint32_t mjPattern(uint64_t seed, uint64_t pixel, uint64_t set, uint64_t dimensi
 /// computed once per pixel; every pattern and point of that pixel's camera
 /// samples is then one mix64 of (key, camera sample index, dimension), so the
 /// per-shading-point cost of a sample set is a hash, not a constructor.
-uint64_t pixelSampleKey(uint64_t seed, uint64_t pixel);
+inline uint64_t pixelSampleKey(uint64_t seed, uint64_t pixel) { return hashValues({seed, pixel, 0x5eedULL}); }
 
 /// Pattern id of the set that camera sample `set` of the pixel with key
 /// `pixelKey` uses in `dimension` (one mix64).

@@ -121,6 +121,7 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
     uint64_t pixelKey[kMax];
     size_t filmIndex[kMax];
     std::optional<MultiJitterSet> pixelSet[kMax], lensSet[kMax];
+    float pixelX[kMax], pixelY[kMax];  // the pixels' corners on the film
     // Tabulate the sets' permutations where the pass draws enough of their
     // samples to repay it (two permutation evaluations per sample saved).
     const MjGrid grid = mjGrid(spp);
@@ -129,8 +130,10 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
         const int x = b.x0 + int(i) % bw, y = b.y0 + int(i) / bw;
         pixelKey[i] = pixelSampleKey(c.settings.seed, uint64_t(y) * uint64_t(c.settings.width) + uint64_t(x));
         filmIndex[i] = c.film.index(x, y);
-        pixelSet[i].emplace(spp, setPattern(pixelKey[i], 0, kPixelDimension), tabulate);
-        if (c.useLens) lensSet[i].emplace(spp, setPattern(pixelKey[i], 0, kLensDimension), tabulate);
+        pixelSet[i].emplace(spp, grid, setPattern(pixelKey[i], 0, kPixelDimension), tabulate);
+        if (c.useLens) lensSet[i].emplace(spp, grid, setPattern(pixelKey[i], 0, kLensDimension), tabulate);
+        pixelX[i] = float(x);
+        pixelY[i] = float(y);
     }
     Vec2f film[kMax], lens[kMax];
     Ray rays[kMax];
@@ -143,7 +146,7 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
         if (c.cancelled()) return false;
         for (size_t i = 0; i < count; ++i) {
             const Vec2f u = pixelSet[i]->sample(s);
-            film[i] = Vec2f{float(b.x0 + int(i) % bw) + u.x, float(b.y0 + int(i) / bw) + u.y};
+            film[i] = Vec2f{pixelX[i] + u.x, pixelY[i] + u.y};
             if (c.useLens) lens[i] = lensSet[i]->sample(s);
             keys[i] = SampleKey{pixelKey[i], s};
         }

@@ -61,14 +61,14 @@ std::optional<LightSample> solidAngleSample(const Vec3f& p, const Vec3f& point, 
 // cos(theta') where the emitter is two-sided (std::fabs): a select on
 // twoSided would keep the loop from vectorising; the mask does not.
 [[gnu::always_inline]] inline void areaSampleLane(int l, float qx, float qy, float qz, float px, float py, float pz,
-                                                  const Vec3f& n, float pdfArea, uint32_t signMask, const Rgb& Le,
-                                                  int32_t want, LightLanes& out) {
+                                                  float nx, float ny, float nz, float pdfArea, uint32_t signMask,
+                                                  const Rgb& Le, int32_t want, LightLanes& out) {
     const float dx = qx - px, dy = qy - py, dz = qz - pz;
     const float dist2 = dx * dx + dy * dy + dz * dz;
     const float dist = std::sqrt(dist2);
     const float inv = 1.f / dist;
     const float wx = dx * inv, wy = dy * inv, wz = dz * inv;
-    const float cosLight = std::bit_cast<float>(std::bit_cast<uint32_t>(-(n.x * wx + n.y * wy + n.z * wz)) & signMask);
+    const float cosLight = std::bit_cast<float>(std::bit_cast<uint32_t>(-(nx * wx + ny * wy + nz * wz)) & signMask);
     const float pdf = pdfArea * dist2 / cosLight;
     const int32_t ok =
         (dist2 > 0.f) & (pdfArea > 0.f) & (cosLight > 0.f) & (std::fabs(pdf) < kInfinity) & (pdf > 0.f);
@@ -105,7 +105,7 @@ template <bool kOnePoint>
         const float qx = c.x + ux[l] * ea.x + uy[l] * eb.x;
         const float qy = c.y + ux[l] * ea.y + uy[l] * eb.y;
         const float qz = c.z + ux[l] * ea.z + uy[l] * eb.z;
-        areaSampleLane(l, qx, qy, qz, px[i], py[i], pz[i], fn, pdfArea, signMask, Le, kOnePoint ? 1 : want[l], out);
+        areaSampleLane(l, qx, qy, qz, px[i], py[i], pz[i], fn.x, fn.y, fn.z, pdfArea, signMask, Le, kOnePoint ? 1 : want[l], out);
     }
 }
 
@@ -535,15 +535,15 @@ PENUMBRA_LANE_CLONES void MeshAreaLight::smallMeshSampleLanes(const LanePoints& 
     // pick(): the first triangle whose cumulative area exceeds the target (upper_bound), the last at most.
     for (int j = 0; j < count; ++j) {
         const float c = cdf_[j];
-        for (int l = 0; l < W; ++l) pick[l] += int32_t(c <= target[l]);
+        for (int l = 0; l < n; ++l) pick[l] += int32_t(c <= target[l]);
     }
     alignas(64) float p0x[W], p0y[W], p0z[W], e1x[W], e1y[W], e1z[W], e2x[W], e2y[W], e2z[W];
-    alignas(64) float nx[W], ny[W], nz[W], lo[W], hi[W];
+    alignas(64) float nx[W], ny[W], nz[W], lo[W], span[W];
     for (int j = 0; j < count; ++j) {
         const Triangle& t = triangles_[size_t(j)];
-        const float tlo = j ? cdf_[size_t(j) - 1] : 0.f, thi = cdf_[size_t(j)];
+        const float tlo = j ? cdf_[size_t(j) - 1] : 0.f, tspan = cdf_[size_t(j)] - tlo;
         const bool last = j == count - 1;
-        for (int l = 0; l < W; ++l) {
+        for (int l = 0; l < n; ++l) {
             const bool take = j == 0 || pick[l] == j || (last && pick[l] > j);
             p0x[l] = take ? t.p0.x : p0x[l];
             p0y[l] = take ? t.p0.y : p0y[l];
@@ -558,22 +558,29 @@ PENUMBRA_LANE_CLONES void MeshAreaLight::smallMeshSampleLanes(const LanePoints& 
             ny[l] = take ? t.n.y : ny[l];
             nz[l] = take ? t.n.z : nz[l];
             lo[l] = take ? tlo : lo[l];
-            hi[l] = take ? thi : hi[l];
+            span[l] = take ? tspan : span[l];
         }
     }
     const float pdfArea = 1.f / totalArea_;
     const uint32_t signMask = signMaskOf(twoSided_);
+    alignas(64) float su[W];
     for (int l = 0; l < n; ++l) {
         // pick()'s reuse of u.x inside the triangle, then squareToTriangle.
-        const float triArea = hi[l] - lo[l];
+        const float triArea = span[l];
         const float r = (target[l] - lo[l]) / triArea;
         const float rescaled = triArea > 0.f ? (r < 0.f ? 0.f : (0x1.fffffep-1f < r ? 0x1.fffffep-1f : r)) : 0.5f;
-        const float su = std::sqrt(rescaled);
-        const float bx = 1.f - su, by = uy[l] * su;
+        su[l] = std::sqrt(rescaled);
+    }
+    // out never shares memory with at, ux, uy or want (the callers' packets
+    // and scratch arrays): without ivdep GCC tries to version this loop for
+    // aliasing and, in the AVX copies, gives up and leaves it scalar.
+#pragma GCC ivdep
+    for (int l = 0; l < n; ++l) {
+        const float bx = 1.f - su[l], by = uy[l] * su[l];
         const float qx = p0x[l] + bx * e1x[l] + by * e2x[l];
         const float qy = p0y[l] + bx * e1y[l] + by * e2y[l];
         const float qz = p0z[l] + bx * e1z[l] + by * e2z[l];
-        areaSampleLane(l, qx, qy, qz, at.px[l], at.py[l], at.pz[l], Vec3f{nx[l], ny[l], nz[l]}, pdfArea, signMask, Le_,
+        areaSampleLane(l, qx, qy, qz, at.px[l], at.py[l], at.pz[l], nx[l], ny[l], nz[l], pdfArea, signMask, Le_,
                        want[l], out);
     }
     // The near points' samples replace their area samples.

@@ -340,9 +340,14 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                     for (int c = 0; c < m; ++c) acc[owner[c]] += added[c];
                     m = 0;
                 };
+                // Points whose every sample would be discarded take no lanes.
+                LanePoints litPoints;
+                for (size_t q = 0; q < nLit; ++q) litPoints.set(int(q), lanes[lit[q]].sp.p, lanes[lit[q]].sp.ng);
+                alignas(64) int32_t reach[kLaneWidth];
+                light.mayReachLanes(litPoints, int(nLit), reach);
                 for (size_t q = 0; q < nLit; ++q) {
                     const PathLane& lane = lanes[lit[q]];
-                    if (!light.mayReach(lane.sp.p, lane.sp.ng)) continue;  // every sample would be discarded
+                    if (!reach[q]) continue;
                     const uint64_t key = dimensionKey(lane.key, dim);
                     for (uint32_t k = 0; k < n; ++k) {
                         pairs.setLane(m, lane.sp, mis[lit[q]]);

@@ -173,6 +173,7 @@ pnb_render_stats out(const pnb::RenderStats& s) {
     r.samples_per_pixel = s.samplesPerPixel;
     r.threads = s.threads;
     r.transmission_rays = s.transmissionRays;
+    r.brdf_rays = s.brdfRays;
     r.indirect_rays = s.indirectRays;
     r.path_length_sum = s.pathLengthSum;
     r.path_length_max = s.pathLengthMax;

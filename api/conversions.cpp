@@ -57,8 +57,8 @@ void accumulate(RenderStats& total, const RenderStats& pass) {
     total.indirectRays += pass.indirectRays;
     total.pathLengthSum += pass.pathLengthSum;
     total.pathLengthMax = std::max(total.pathLengthMax, pass.pathLengthMax);
-    const double rays = double(total.cameraRays + total.shadowRays + total.reflectionRays + total.transmissionRays +
-                               total.indirectRays);
+    total.brdfRays += pass.brdfRays;
+    const double rays = double(total.totalRays());
     total.mraysPerSecond = total.renderSeconds > 0 ? rays / total.renderSeconds * 1e-6 : 0.0;
     total.samplesPerPixel = pass.samplesPerPixel;
     total.threads = pass.threads;

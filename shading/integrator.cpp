@@ -159,7 +159,7 @@ public:
     void flush() {
         if (pending_ == 0) return;
         accel_.intersectBatch(std::span<const Ray>(rays_.data(), pending_), std::span<std::optional<Hit>>(hits_.data(), pending_));
-        counts_.shadow += pending_;
+        counts_.brdf += pending_;
         const EnvironmentLight* env = lights_.environment();
         for (uint32_t i = 0; i < pending_; ++i) {
             if (!hits_[i]) {

@@ -30,6 +30,7 @@ struct RayCounts {
     uint64_t indirect = 0;      // path: diffuse and glossy bounce rays
     uint64_t pathLengthSum = 0; // rays along each camera sample's path (whitted: deepest branch)
     uint32_t pathLengthMax = 0;
+    uint64_t brdf = 0;          // whitted: BRDF-sampled rays of direct light under MIS (closest-hit queries)
     RayCounts& operator+=(const RayCounts& o) {
         camera += o.camera;
         shadow += o.shadow;
@@ -39,9 +40,10 @@ struct RayCounts {
         indirect += o.indirect;
         pathLengthSum += o.pathLengthSum;
         pathLengthMax = pathLengthMax > o.pathLengthMax ? pathLengthMax : o.pathLengthMax;
+        brdf += o.brdf;
         return *this;
     }
-    uint64_t total() const { return camera + shadow + reflection + transmission + indirect; }
+    uint64_t total() const { return camera + shadow + reflection + transmission + indirect + brdf; }
 };
 
 /// First-hit data for the AOVs.

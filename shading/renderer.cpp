@@ -240,6 +240,7 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     stats.nonFiniteSamples = total.nonFinite;
     stats.transmissionRays = total.transmission;
     stats.indirectRays = total.indirect;
+    stats.brdfRays = total.brdf;
     stats.pathLengthSum = total.pathLengthSum;
     stats.pathLengthMax = total.pathLengthMax;
     stats.invalidRays = prepared.accelerator().invalidRayCount() - invalidBefore;

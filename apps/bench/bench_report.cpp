@@ -85,6 +85,7 @@ json frameJson(const FrameFigures& f) {
             {"mrays_nt", f.mraysAll()},
             {"rays",
              {{"camera", f.rays.camera}, {"shadow", f.rays.shadow}, {"reflection", f.rays.reflection},
+              {"transmission", f.rays.transmission}, {"indirect", f.rays.indirect}, {"brdf", f.rays.brdf},
               {"total", f.rays.total()}}}};
 }
 
@@ -225,7 +226,8 @@ void printReport(std::FILE* out, const std::vector<SceneResult>& results, const 
     }
     std::fprintf(out,
                  "  frame/q = frame time / (sum over the frame's rays of 1 / pure query rate of its kind: raw Embree's, or "
-                 "where the scene has analytic shapes the\n  renderer's single-ray intersectPrim/occluded), %d threads; "
+                 "where the scene has analytic shapes the\n  renderer's single-ray intersectPrim/occluded; reflection, "
+                 "transmission and BRDF-sampled rays at the incoherent rate), %d threads; "
                  "renderNT = frame throughput %dT / 1T;\n  build = renderer BVH build (own device included) / raw "
                  "scene build (device excluded)\n",
                  T, T);

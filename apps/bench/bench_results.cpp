@@ -22,15 +22,18 @@ SceneRatios ratiosOf(const SceneResult& r) {
         q.buildOverRawWithDevice = ratio(r.embree.buildSeconds, r.raw.buildSeconds + r.raw.deviceSeconds);
         q.memoryOverRaw = ratio(double(r.embree.memoryBytes), double(r.raw.memoryBytes));
     }
-    // The frame's rays, each at the pure query rate of its kind (reflection
-    // rays at the incoherent set's rate), with the frame's thread count: raw
+    // The frame's rays, each at the pure query rate of its kind, with the
+    // closest-hit queries after the camera's (reflection and transmission
+    // rays, and the BRDF-sampled rays of direct light) at the incoherent
+    // set's rate, and the frame's thread count: raw
     // Embree's where the raw harness holds the scene (triangles only), else
     // the renderer's accelerator answering single rays with nothing else
     // (intersectPrim, occluded).
     if (r.embree.frame.measured) {
         const AccelFigures& query = r.raw.present ? r.raw : r.embreeThin;
         const RayCounts& n = r.embree.frame.rays;
-        const double counts[kRayKindCount] = {double(n.camera), double(n.shadow), double(n.reflection)};
+        const double counts[kRayKindCount] = {double(n.camera), double(n.shadow),
+                                              double(n.reflection + n.transmission + n.indirect + n.brdf)};
         double pure = 0.0;
         bool ok = true;
         for (size_t k = 0; k < kRayKindCount; ++k) {

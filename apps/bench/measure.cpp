@@ -266,7 +266,14 @@ FrameFigures measureFrame(const PreparedScene& prepared, const CameraDesc& camer
         const auto t0 = Clock::now();
         const RenderStats s = renderPass(prepared, camera, st, film, 0, uint32_t(st.spp)).stats;
         const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
-        f.rays = RayCounts{s.cameraRays, s.shadowRays, s.reflectionRays, s.nonFiniteSamples};
+        f.rays = RayCounts{};
+        f.rays.camera = s.cameraRays;
+        f.rays.shadow = s.shadowRays;
+        f.rays.reflection = s.reflectionRays;
+        f.rays.nonFinite = s.nonFiniteSamples;
+        f.rays.transmission = s.transmissionRays;
+        f.rays.indirect = s.indirectRays;
+        f.rays.brdf = s.brdfRays;
         return dt;
     };
     if (reps > 1) {

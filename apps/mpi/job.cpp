@@ -167,6 +167,7 @@ WorkerTotals totalsOf(const pnb::RenderStats& st) {
     t.indirectRays = st.indirectRays;
     t.pathLengthSum = st.pathLengthSum;
     t.pathLengthMax = st.pathLengthMax;
+    t.brdfRays = st.brdfRays;
     return t;
 }
 
@@ -182,6 +183,7 @@ void WorkerTotals::add(const WorkerTotals& o) {
     indirectRays += o.indirectRays;
     pathLengthSum += o.pathLengthSum;
     pathLengthMax = std::max(pathLengthMax, o.pathLengthMax);
+    brdfRays += o.brdfRays;
 }
 
 }  // namespace penumbra::mpi

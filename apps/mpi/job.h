@@ -61,6 +61,11 @@ struct WorkerTotals {
     double renderSeconds = 0.0;
     std::uint64_t transmissionRays = 0, indirectRays = 0, pathLengthSum = 0;
     std::uint32_t pathLengthMax = 0;
+    std::uint64_t brdfRays = 0;
+
+    std::uint64_t totalRays() const {
+        return cameraRays + shadowRays + reflectionRays + transmissionRays + indirectRays + brdfRays;
+    }
 
     /// Adds one render call's (or one worker's) counts.
     void add(const WorkerTotals& o);

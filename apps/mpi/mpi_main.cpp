@@ -158,8 +158,9 @@ void writeStatsJson(const Options& o, const pnb::RenderSettings& s, const SetupR
                  {"shadow", t.shadowRays},
                  {"reflection", t.reflectionRays},
                  {"transmission", t.transmissionRays},
+                 {"brdf", t.brdfRays},
                  {"indirect", t.indirectRays},
-                 {"total", t.cameraRays + t.shadowRays + t.reflectionRays + t.transmissionRays + t.indirectRays},
+                 {"total", t.totalRays()},
                  {"invalid", t.invalidRays}};
     j["path_length"] = {{"mean", t.cameraRays ? double(t.pathLengthSum) / double(t.cameraRays) : 0.0},
                         {"max", t.pathLengthMax}};
@@ -244,8 +245,7 @@ int run(int argc, char** argv, int rank, int size) {
 
     if (!o.quiet) {
         const WorkerTotals& t = frame.totals;
-        const double rays =
-            double(t.cameraRays + t.shadowRays + t.reflectionRays + t.transmissionRays + t.indirectRays);
+        const double rays = double(t.totalRays());
         std::string perRank;
         for (int r = (size == 1 ? 0 : 1); r < size; ++r)
             perRank += (perRank.empty() ? "" : ", ") + std::to_string(frame.tilesPerRank[size_t(r)]);

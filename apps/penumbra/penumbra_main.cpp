@@ -66,8 +66,9 @@ void writeStatsJson(const fs::path& path, const Options& o, const pnb::RenderSet
                  {"shadow", st.shadowRays},
                  {"reflection", st.reflectionRays},
                  {"transmission", st.transmissionRays},
+                 {"brdf", st.brdfRays},
                  {"indirect", st.indirectRays},
-                 {"total", st.cameraRays + st.shadowRays + st.reflectionRays + st.transmissionRays + st.indirectRays},
+                 {"total", st.totalRays()},
                  {"invalid", st.invalidRays}};
     // Rays traced along each camera sample's path, camera ray included (whitted: its deepest branch).
     j["path_length"] = {{"mean", st.cameraRays ? double(st.pathLengthSum) / double(st.cameraRays) : 0.0},
@@ -160,11 +161,13 @@ int runSteps(const Options& o, std::string& step) {
         std::fprintf(stderr,
                      "penumbra: %zu primitives (%zu triangles), %zu lights, accelerator %s\n"
                      "penumbra: build %.3f s, render %.3f s on %d threads\n"
-                     "penumbra: rays: %llu camera, %llu shadow, %llu reflection (%.2f Mrays/s); peak memory %.0f MiB\n",
+                     "penumbra: rays: %llu camera, %llu shadow, %llu reflection, %llu BRDF (%.2f Mrays/s); peak memory "
+                     "%.0f MiB\n",
                      prepared.primitiveCount(), prepared.triangleCount(), prepared.lightCount(),
                      prepared.accelerator().c_str(), prepared.buildSeconds(), stats.renderSeconds, stats.threads,
                      (unsigned long long)stats.cameraRays, (unsigned long long)stats.shadowRays,
-                     (unsigned long long)stats.reflectionRays, stats.mraysPerSecond, peakMemoryMiB());
+                     (unsigned long long)stats.reflectionRays, (unsigned long long)stats.brdfRays, stats.mraysPerSecond,
+                     peakMemoryMiB());
         if (stats.transmissionRays || stats.indirectRays)
             std::fprintf(stderr, "penumbra: rays: %llu transmission, %llu indirect; path length mean %.2f, max %u\n",
                          (unsigned long long)stats.transmissionRays, (unsigned long long)stats.indirectRays,

@@ -138,6 +138,10 @@ TEST(Cli, StatsJsonCountsRays) {
     nlohmann::json j = nlohmann::json::parse(in);
     EXPECT_EQ(j["rays"]["camera"].get<uint64_t>(), 32u * 24u * 4u);
     EXPECT_GT(j["rays"]["shadow"].get<uint64_t>(), 0u);
+    uint64_t sum = 0;
+    for (const char* kind : {"camera", "shadow", "reflection", "transmission", "indirect", "brdf"})
+        sum += j["rays"][kind].get<uint64_t>();
+    EXPECT_EQ(j["rays"]["total"].get<uint64_t>(), sum);
     EXPECT_EQ(j["width"].get<int>(), 32);
     EXPECT_GT(j["peak_memory_mib"].get<double>(), 1.0);
 }

@@ -78,10 +78,11 @@ TEST(ImageEncoderProcess, EncodesWhatThisProcessEncodesByteForByte) {
             const std::string here = bytesButTheDate(dir / (stem + "_here" + ext));
             EXPECT_GT(here.size(), 100u) << ext;
             EXPECT_EQ(bytesButTheDate(dir / (stem + "_helper" + ext)), here) << ext << (aovs ? " with AOVs" : "");
-            if (aovs && std::string(ext) != ".exr")  // the AOVs' EXR sibling
+            if (aovs && std::string(ext) != ".exr") {  // the AOVs' EXR sibling
                 EXPECT_EQ(bytesButTheDate(dir / (stem + "_helper.aovs.exr")),
                           bytesButTheDate(dir / (stem + "_here.aovs.exr")))
                     << ext;
+            }
         }
     }
     EXPECT_GT(encoder->pid(), 0) << "the helper answered every request";

@@ -161,6 +161,26 @@ TEST_F(Determinism, StatisticsCountRaysByKind) {
     EXPECT_EQ(stats.invalidRays, 0u);
 }
 
+// BRDF-sampled rays under MIS are closest-hit queries and are counted apart
+// from the shadow rays (occlusion queries): MIS traces exactly the light
+// samples' shadow rays that light sampling alone traces, and its BRDF samples
+// besides (the glossy back wall takes them).
+TEST_F(Determinism, StatisticsCountBrdfSampledRaysApartFromShadowRays) {
+    RenderSettings st = testSettings();
+    st.directLight = DirectLightSampling::Light;
+    Film lightOnly = makeFilm(st);
+    const RenderStats light = render(*prepared_, testCamera(), st, lightOnly).stats;
+    st.directLight = DirectLightSampling::Mis;
+    Film mis = makeFilm(st);
+    const RenderStats both = render(*prepared_, testCamera(), st, mis).stats;
+    EXPECT_EQ(light.brdfRays, 0u);
+    EXPECT_EQ(both.shadowRays, light.shadowRays);
+    EXPECT_GT(both.brdfRays, 0u);
+    // At most (4 + 1) / 2 = 2 BRDF samples per shading point (camera and mirror hits).
+    EXPECT_LE(both.brdfRays, 2 * (both.cameraRays + both.reflectionRays));
+    EXPECT_EQ(both.totalRays(), both.cameraRays + both.shadowRays + both.reflectionRays + both.brdfRays);
+}
+
 // The same room with a glass ball, for both integrators: paths split (whitted)
 // or are sampled (path) at the glass, and stay deterministic.
 class GlassDeterminism : public ::testing::TestWithParam<IntegratorKind> {

@@ -182,6 +182,14 @@ struct RenderStats {
     /// whitted: its deepest branch). Sum over samples (mean = pathLengthSum / cameraRays) and maximum.
     std::uint64_t pathLengthSum = 0;
     std::uint32_t pathLengthMax = 0;
+    /// whitted: rays sampled from the BRDF for direct light under MIS (closest-hit queries that
+    /// look for a light; shadowRays are the occlusion queries towards sampled light points).
+    std::uint64_t brdfRays = 0;
+
+    /// Every ray traced: the sum of the kinds above (invalid rays are not traced).
+    std::uint64_t totalRays() const {
+        return cameraRays + shadowRays + reflectionRays + transmissionRays + indirectRays + brdfRays;
+    }
 };
 
 // ---------------------------------------------------------------- preparing

@@ -17,12 +17,12 @@ MultiJitterSet::MultiJitterSet(uint32_t n, const MjGrid& g, uint32_t p, bool tab
     k_ = g.rows;
     invM_ = 1.f / static_cast<float>(m_);
     invK_ = 1.f / static_cast<float>(k_);
-    if (m_ * k_ != n) cells_ = IndexPermutation(m_ * k_, p * 0x51633e2dU);
+    if (m_ * k_ != n) cells_ = IndexPermutation(m_ * k_, p * detail::kCellSalt);
     // Shuffle the sub-cell offsets of a whole row (resp. column) with one
     // permutation: this is the "correlated" part that keeps the n-rooks
     // property while only needing permutations of length m and k.
-    cols_ = IndexPermutation(m_, p * 0xa511e9b3U);
-    rows_ = IndexPermutation(k_, p * 0x63d83595U);
+    cols_ = IndexPermutation(m_, p * detail::kColSalt);
+    rows_ = IndexPermutation(k_, p * detail::kRowSalt);
     if (tabulate && m_ <= kMaxTable && k_ <= kMaxTable) {
         for (uint32_t c = 0; c < m_; ++c) colTable_[c] = static_cast<uint8_t>(cols_(c));
         for (uint32_t r = 0; r < k_; ++r) rowTable_[r] = static_cast<uint8_t>(rows_(r));

@@ -63,6 +63,11 @@ namespace detail {
 // A hash of (i, p) to [0, 1), for the jitter within a cell.
 inline float jitter(uint32_t i, uint32_t p) { return toUnitFloat(mix64((uint64_t(p) << 32) ^ i ^ 0x5bd1e995ULL)); }
 
+// A set's pattern times these gives its permutations' and jitters' patterns
+// (MultiJitterSet and MultiJitterLanes derive them alike).
+inline constexpr uint32_t kCellSalt = 0x51633e2dU, kColSalt = 0xa511e9b3U, kRowSalt = 0x63d83595U;
+inline constexpr uint32_t kJitterXSalt = 0xa399d265U, kJitterYSalt = 0x711ad6a5U;
+
 }  // namespace detail
 
 /// Element i of the permutation of [0, n) with pattern p.
@@ -107,8 +112,8 @@ inline Vec2f MultiJitterSet::sample(uint32_t s) const {
     const uint32_t col = s % m_, row = s / m_;
     const uint32_t sx = tabulated_ ? colTable_[col] : cols_(col);
     const uint32_t sy = tabulated_ ? rowTable_[row] : rows_(row);
-    const float jx = detail::jitter(s, pattern_ * 0xa399d265U);
-    const float jy = detail::jitter(s, pattern_ * 0x711ad6a5U);
+    const float jx = detail::jitter(s, pattern_ * detail::kJitterXSalt);
+    const float jy = detail::jitter(s, pattern_ * detail::kJitterYSalt);
     Vec2f r{(static_cast<float>(col) + (static_cast<float>(sy) + jx) * invK_) * invM_,
             (static_cast<float>(row) + (static_cast<float>(sx) + jy) * invM_) * invK_};
     // Guard against rounding to exactly 1.

@@ -11,6 +11,7 @@
 #include "core/io/input_file.h"
 #include "core/scratch_array.h"
 #include "core/multi_jitter.h"
+#include "core/multi_jitter_lanes.h"
 #include "core/parallel.h"
 #include "core/rgb_image.h"
 #include "core/texture_cache.h"
@@ -108,30 +109,47 @@ void checkPass(const RenderSettings& settings, const Film& film, uint32_t firstS
                                                     " samples per pixel; the pass must start there");
 }
 
+// The pixel (and lens) sample sets of a tile's blocks: every set has spp
+// samples on one grid; drawn as lanes (MultiJitterLanes), whose lanes each
+// block sets to its pixels, where the size allows and tables pay.
+struct BlockSampleSets {
+    MjGrid grid;
+    bool tabulate;  // MultiJitterSet's tables, where the sets are not lanes
+    std::optional<MultiJitterLanes> pixel, lens;
+};
+
 // Camera samples of one block of up to 4x4 pixels: for each sample index the
 // block's camera rays go out as one packet and are shaded as one batch. Each
 // pixel still receives its samples in sample order, so films do not depend on
 // the grouping. Cancellation is checked before every sample index (a batch of
 // at most 16 camera samples). Returns false when cancelled.
-bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
+bool renderBlock(const PassContext& c, const PixelRect& b, BlockSampleSets& sets, RayCounts& counts) {
     constexpr size_t kMax = Integrator::kMaxBatch;
+    static_assert(kMax <= size_t(MultiJitterLanes::kLanes), "a block's pixels fit the lanes");
     const int bw = b.x1 - b.x0;
     const size_t count = size_t(bw) * size_t(b.y1 - b.y0);
     const uint32_t spp = static_cast<uint32_t>(c.settings.spp);
     uint64_t pixelKey[kMax];
     size_t filmIndex[kMax];
-    std::optional<MultiJitterSet> pixelSet[kMax], lensSet[kMax];
+    std::optional<MultiJitterSet> pixelSet[kMax], lensSet[kMax];  // where the sets are not drawn as lanes
     float pixelX[kMax], pixelY[kMax];  // the pixels' corners on the film
-    // Tabulate the sets' permutations where the pass draws enough of their
-    // samples to repay it (two permutation evaluations per sample saved).
-    const MjGrid grid = mjGrid(spp);
-    const bool tabulate = 2 * uint64_t(c.sampleCount) > uint64_t(grid.cols) + grid.rows;
+    const bool asLanes = bool(sets.pixel);
     for (size_t i = 0; i < count; ++i) {
         const int x = b.x0 + int(i) % bw, y = b.y0 + int(i) / bw;
         pixelKey[i] = pixelSampleKey(c.settings.seed, uint64_t(y) * uint64_t(c.settings.width) + uint64_t(x));
         filmIndex[i] = c.film.index(x, y);
-        pixelSet[i].emplace(spp, grid, setPattern(pixelKey[i], 0, kPixelDimension), tabulate);
-        if (c.useLens) lensSet[i].emplace(spp, grid, setPattern(pixelKey[i], 0, kLensDimension), tabulate);
+        const uint32_t pixelPattern = setPattern(pixelKey[i], 0, kPixelDimension);
+        if (asLanes)
+            sets.pixel->setLane(int(i), pixelPattern);
+        else
+            pixelSet[i].emplace(spp, sets.grid, pixelPattern, sets.tabulate);
+        if (c.useLens) {
+            const uint32_t lensPattern = setPattern(pixelKey[i], 0, kLensDimension);
+            if (asLanes)
+                sets.lens->setLane(int(i), lensPattern);
+            else
+                lensSet[i].emplace(spp, sets.grid, lensPattern, sets.tabulate);
+        }
         pixelX[i] = float(x);
         pixelY[i] = float(y);
     }
@@ -144,12 +162,22 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
     const bool aovs = c.film.hasAovs();
     for (uint32_t s = c.firstSample; s < c.firstSample + c.sampleCount; ++s) {
         if (c.cancelled()) return false;
-        for (size_t i = 0; i < count; ++i) {
-            const Vec2f u = pixelSet[i]->sample(s);
-            film[i] = Vec2f{pixelX[i] + u.x, pixelY[i] + u.y};
-            if (c.useLens) lens[i] = lensSet[i]->sample(s);
-            keys[i] = SampleKey{pixelKey[i], s};
+        if (asLanes) {
+            alignas(64) float ux[kMax], uy[kMax];
+            sets.pixel->sample(s, ux, uy);
+            for (size_t i = 0; i < count; ++i) film[i] = Vec2f{pixelX[i] + ux[i], pixelY[i] + uy[i]};
+            if (c.useLens) {
+                sets.lens->sample(s, ux, uy);
+                for (size_t i = 0; i < count; ++i) lens[i] = Vec2f{ux[i], uy[i]};
+            }
+        } else {
+            for (size_t i = 0; i < count; ++i) {
+                const Vec2f u = pixelSet[i]->sample(s);
+                film[i] = Vec2f{pixelX[i] + u.x, pixelY[i] + u.y};
+                if (c.useLens) lens[i] = lensSet[i]->sample(s);
+            }
         }
+        for (size_t i = 0; i < count; ++i) keys[i] = SampleKey{pixelKey[i], s};
         c.camera.generateRays(std::span<const Vec2f>(film, count),
                               c.useLens ? std::span<const Vec2f>(lens, count) : std::span<const Vec2f>(),
                               std::span<Ray>(rays, count));
@@ -177,10 +205,21 @@ bool renderBlock(const PassContext& c, const PixelRect& b, RayCounts& counts) {
 bool renderTile(const PassContext& c, const PixelRect& tile, RayCounts& counts) {
     DenormalGuard ftz;
     constexpr int kBlock = 4;
+    const uint32_t spp = static_cast<uint32_t>(c.settings.spp);
+    const MjGrid grid = mjGrid(spp);
+    // Tabulate the sets' permutations where the pass draws enough of their
+    // samples to repay it: m + k permutation evaluations per set, against two
+    // per sample drawn. Tabulated sets of a size that allows it are lanes.
+    const bool tabulate = 2 * uint64_t(c.sampleCount) > uint64_t(grid.cols) + grid.rows;
+    BlockSampleSets sets{grid, tabulate, std::nullopt, std::nullopt};
+    if (tabulate && MultiJitterLanes::supports(spp)) {
+        sets.pixel.emplace(spp);
+        if (c.useLens) sets.lens.emplace(spp);
+    }
     for (int by = tile.y0; by < tile.y1; by += kBlock)
         for (int bx = tile.x0; bx < tile.x1; bx += kBlock) {
             const PixelRect block{bx, by, std::min(bx + kBlock, tile.x1), std::min(by + kBlock, tile.y1)};
-            if (!renderBlock(c, block, counts)) return false;
+            if (!renderBlock(c, block, sets, counts)) return false;
         }
     return true;
 }

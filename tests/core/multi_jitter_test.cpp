@@ -1,6 +1,7 @@
 // The multi-jittered sampler: stratification in 2D and in both 1D
 // projections, purity, and faster convergence than independent samples.
 #include "core/multi_jitter.h"
+#include "core/multi_jitter_lanes.h"
 
 #include <gtest/gtest.h>
 
@@ -105,6 +106,34 @@ TEST(MultiJitter, TabulatedSetsGiveTheSameSamples) {
                 const Vec2f a = direct.sample(s), b = tabulated.sample(s);
                 ASSERT_EQ(a.x, b.x) << "n " << n << " pattern " << p << " sample " << s;
                 ASSERT_EQ(a.y, b.y) << "n " << n << " pattern " << p << " sample " << s;
+            }
+        }
+    }
+}
+
+TEST(MultiJitter, LanesGiveEachLanesSetsSamples) {
+    // The renderer draws a block's pixel sets as lanes where their grid holds
+    // exactly n cells and fits the tables; every lane's points are its set's.
+    EXPECT_FALSE(MultiJitterLanes::supports(0));
+    EXPECT_FALSE(MultiJitterLanes::supports(5));     // 2 x 3 cells
+    EXPECT_FALSE(MultiJitterLanes::supports(5000));  // 70 x 72 > the tables
+    for (uint32_t n : {1u, 2u, 4u, 8u, 9u, 12u, 100u, 4096u}) {
+        ASSERT_TRUE(MultiJitterLanes::supports(n)) << n;
+        MultiJitterLanes lanes(n);
+        uint32_t patterns[MultiJitterLanes::kLanes];
+        for (int l = 0; l < MultiJitterLanes::kLanes; ++l) {
+            patterns[l] = static_cast<uint32_t>(mix64(uint64_t(n) * 131 + uint64_t(l)));
+            lanes.setLane(l, patterns[l]);
+        }
+        lanes.setLane(3, 0xdeadbeefu);  // a lane set again takes its new set
+        patterns[3] = 0xdeadbeefu;
+        for (uint32_t s = 0; s < n; s += 1 + n / 64) {
+            alignas(64) float x[MultiJitterLanes::kLanes], y[MultiJitterLanes::kLanes];
+            lanes.sample(s, x, y);
+            for (int l = 0; l < MultiJitterLanes::kLanes; ++l) {
+                const Vec2f want = MultiJitterSet(n, patterns[l]).sample(s);
+                ASSERT_EQ(x[l], want.x) << "n " << n << " lane " << l << " sample " << s;
+                ASSERT_EQ(y[l], want.y) << "n " << n << " lane " << l << " sample " << s;
             }
         }
     }

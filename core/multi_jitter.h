@@ -17,8 +17,20 @@ namespace penumbra {
 /// value falls below n. The keys are derived once, when it is constructed.
 class IndexPermutation {
 public:
+    /// The keys a pattern id stands for (three hashes of it).
+    struct Keys {
+        uint32_t k0, k1, k2;
+    };
+    static Keys keysOf(uint32_t pattern) {
+        return {static_cast<uint32_t>(mix64(pattern)),
+                static_cast<uint32_t>(mix64(uint64_t(pattern) + 0x632be59bd9b4e019ULL)) | 1u,
+                static_cast<uint32_t>(mix64(uint64_t(pattern) + 0x85157af5ULL))};
+    }
+
     IndexPermutation() = default;
-    IndexPermutation(uint32_t n, uint32_t pattern);
+    IndexPermutation(uint32_t n, uint32_t pattern) : IndexPermutation(n, keysOf(pattern)) {}
+    /// The permutation of pattern p given keysOf(p), worked out beforehand.
+    IndexPermutation(uint32_t n, const Keys& keys);
     uint32_t operator()(uint32_t i) const;
 
 private:
@@ -27,7 +39,8 @@ private:
 
 // Inline: the renderer builds a pixel's permutations in every block, and the
 // keys' hashes of several permutations then overlap.
-inline IndexPermutation::IndexPermutation(uint32_t n, uint32_t p) : n_(n) {
+inline IndexPermutation::IndexPermutation(uint32_t n, const Keys& keys)
+    : n_(n), k0_(keys.k0), k1_(keys.k1), k2_(keys.k2) {
     uint32_t mask = n > 1 ? n - 1 : 0;
     mask |= mask >> 1;
     mask |= mask >> 2;
@@ -35,9 +48,6 @@ inline IndexPermutation::IndexPermutation(uint32_t n, uint32_t p) : n_(n) {
     mask |= mask >> 8;
     mask |= mask >> 16;
     mask_ = mask;
-    k0_ = static_cast<uint32_t>(mix64(p));
-    k1_ = static_cast<uint32_t>(mix64(uint64_t(p) + 0x632be59bd9b4e019ULL)) | 1u;
-    k2_ = static_cast<uint32_t>(mix64(uint64_t(p) + 0x85157af5ULL));
 }
 
 inline uint32_t IndexPermutation::operator()(uint32_t i) const {

@@ -15,16 +15,38 @@ MultiJitterLanes::MultiJitterLanes(uint32_t n) {
     k_ = g.rows;
     invM_ = 1.f / static_cast<float>(m_);
     invK_ = 1.f / static_cast<float>(k_);
-    for (int l = 0; l < kLanes; ++l) setLane(l, 0);
+    const uint32_t zeros[kLanes] = {};
+    setLanes(zeros, kLanes);
 }
 
-void MultiJitterLanes::setLane(int l, uint32_t p) {
-    // detail::jitter(s, p * salt) is mix64 of this key xor s.
-    jitterX_[l] = (uint64_t(p * detail::kJitterXSalt) << 32) ^ 0x5bd1e995ULL;
-    jitterY_[l] = (uint64_t(p * detail::kJitterYSalt) << 32) ^ 0x5bd1e995ULL;
-    const IndexPermutation cols(m_, p * detail::kColSalt), rows(k_, p * detail::kRowSalt);
-    for (uint32_t c = 0; c < m_; ++c) colTable_[c][l] = static_cast<uint8_t>(cols(c));
-    for (uint32_t r = 0; r < k_; ++r) rowTable_[r][l] = static_cast<uint8_t>(rows(r));
+void MultiJitterLanes::setLane(int l, uint32_t p) { setLanes(&p, l, l + 1); }
+
+void MultiJitterLanes::setLanes(const uint32_t* patterns, int count) { setLanes(patterns, 0, count); }
+
+// Lanes first..last-1 from patterns[0..last-first): the hashes as loops over
+// the lanes, then each lane's tables.
+PENUMBRA_LANE_CLONES void MultiJitterLanes::setLanes(const uint32_t* patterns, int first, int last) {
+    alignas(64) uint32_t c0[kLanes], c1[kLanes], c2[kLanes], r0[kLanes], r1[kLanes], r2[kLanes];
+    const int n = last - first;
+    for (int i = 0; i < n; ++i) {
+        const uint32_t p = patterns[i];
+        // detail::jitter(s, p * salt) is mix64 of this key xor s.
+        jitterX_[first + i] = (uint64_t(p * detail::kJitterXSalt) << 32) ^ 0x5bd1e995ULL;
+        jitterY_[first + i] = (uint64_t(p * detail::kJitterYSalt) << 32) ^ 0x5bd1e995ULL;
+        const IndexPermutation::Keys c = IndexPermutation::keysOf(p * detail::kColSalt);
+        const IndexPermutation::Keys r = IndexPermutation::keysOf(p * detail::kRowSalt);
+        c0[i] = c.k0;
+        c1[i] = c.k1;
+        c2[i] = c.k2;
+        r0[i] = r.k0;
+        r1[i] = r.k1;
+        r2[i] = r.k2;
+    }
+    for (int i = 0; i < n; ++i) {
+        const IndexPermutation colPerm(m_, {c0[i], c1[i], c2[i]}), rowPerm(k_, {r0[i], r1[i], r2[i]});
+        for (uint32_t c = 0; c < m_; ++c) colTable_[c][first + i] = static_cast<uint8_t>(colPerm(c));
+        for (uint32_t r = 0; r < k_; ++r) rowTable_[r][first + i] = static_cast<uint8_t>(rowPerm(r));
+    }
 }
 
 PENUMBRA_LANE_CLONES void MultiJitterLanes::sample(uint32_t s, float* x, float* y) const {

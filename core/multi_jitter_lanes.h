@@ -27,6 +27,8 @@ public:
 
     /// Lane l draws from the set MultiJitterSet(n, pattern).
     void setLane(int l, uint32_t pattern);
+    /// setLane(l, patterns[l]) for l < count, the patterns' hashes as one loop over the lanes.
+    void setLanes(const uint32_t* patterns, int count);
 
     /// Sample s (0 <= s < n) of every lane's set: (x[l], y[l]) =
     /// MultiJitterSet(n, pattern of lane l).sample(s). Lanes never set give
@@ -34,6 +36,8 @@ public:
     void sample(uint32_t s, float* x, float* y) const;
 
 private:
+    void setLanes(const uint32_t* patterns, int first, int last);
+
     static constexpr uint32_t kMaxTable = MultiJitterSet::kMaxTable;
     uint32_t m_, k_;
     float invM_, invK_;

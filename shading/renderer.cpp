@@ -9,6 +9,7 @@
 #include "core/denormals.h"
 #include "core/error.h"
 #include "core/io/input_file.h"
+#include "core/lane_clones.h"
 #include "core/scratch_array.h"
 #include "core/multi_jitter.h"
 #include "core/multi_jitter_lanes.h"
@@ -118,6 +119,21 @@ struct BlockSampleSets {
     std::optional<MultiJitterLanes> pixel, lens;
 };
 
+// The keys of a block's pixels (pixelSampleKey) and the patterns of their
+// pixel and lens sets, as loops over the pixels.
+PENUMBRA_LANE_CLONES void blockKeys(uint64_t seed, int width, const PixelRect& b, int count, uint64_t* keys,
+                                    uint32_t* pixelPatterns, uint32_t* lensPatterns) {
+    const int bw = b.x1 - b.x0;
+    for (int i = 0; i < count; ++i) {
+        const uint64_t pixel = uint64_t(b.y0 + i / bw) * uint64_t(width) + uint64_t(b.x0 + i % bw);
+        keys[i] = pixelSampleKey(seed, pixel);
+    }
+    for (int i = 0; i < count; ++i) {
+        pixelPatterns[i] = setPattern(keys[i], 0, kPixelDimension);
+        lensPatterns[i] = setPattern(keys[i], 0, kLensDimension);
+    }
+}
+
 // Camera samples of one block of up to 4x4 pixels: for each sample index the
 // block's camera rays go out as one packet and are shaded as one batch. Each
 // pixel still receives its samples in sample order, so films do not depend on
@@ -134,24 +150,22 @@ bool renderBlock(const PassContext& c, const PixelRect& b, BlockSampleSets& sets
     std::optional<MultiJitterSet> pixelSet[kMax], lensSet[kMax];  // where the sets are not drawn as lanes
     float pixelX[kMax], pixelY[kMax];  // the pixels' corners on the film
     const bool asLanes = bool(sets.pixel);
+    alignas(64) uint32_t pixelPattern[kMax], lensPattern[kMax];
+    blockKeys(c.settings.seed, c.settings.width, b, int(count), pixelKey, pixelPattern, lensPattern);
     for (size_t i = 0; i < count; ++i) {
         const int x = b.x0 + int(i) % bw, y = b.y0 + int(i) / bw;
-        pixelKey[i] = pixelSampleKey(c.settings.seed, uint64_t(y) * uint64_t(c.settings.width) + uint64_t(x));
         filmIndex[i] = c.film.index(x, y);
-        const uint32_t pixelPattern = setPattern(pixelKey[i], 0, kPixelDimension);
-        if (asLanes)
-            sets.pixel->setLane(int(i), pixelPattern);
-        else
-            pixelSet[i].emplace(spp, sets.grid, pixelPattern, sets.tabulate);
-        if (c.useLens) {
-            const uint32_t lensPattern = setPattern(pixelKey[i], 0, kLensDimension);
-            if (asLanes)
-                sets.lens->setLane(int(i), lensPattern);
-            else
-                lensSet[i].emplace(spp, sets.grid, lensPattern, sets.tabulate);
-        }
         pixelX[i] = float(x);
         pixelY[i] = float(y);
+    }
+    if (asLanes) {
+        sets.pixel->setLanes(pixelPattern, int(count));
+        if (c.useLens) sets.lens->setLanes(lensPattern, int(count));
+    } else {
+        for (size_t i = 0; i < count; ++i) {
+            pixelSet[i].emplace(spp, sets.grid, pixelPattern[i], sets.tabulate);
+            if (c.useLens) lensSet[i].emplace(spp, sets.grid, lensPattern[i], sets.tabulate);
+        }
     }
     Vec2f film[kMax], lens[kMax];
     Ray rays[kMax];

@@ -23,7 +23,10 @@ Rgb escapedRadiance(const Scene& scene, const LightSet& lights, const Vec3f& dir
 
 Integrator::Integrator(const Scene& scene, const Accelerator& accel, const LightSet& lights,
                        const TextureCache* textures, const RenderSettings& settings)
-    : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings) {}
+    : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings) {
+    for (const Material& m : scene.materials) continues_ |= m.isMirror() || m.isDielectric();
+    continues_ &= settings.maxDepth > 0;
+}
 
 Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLength, const Vec3f& wo) const {
     if (m.textureIndex < 0 || !textures_) return m.kd;
@@ -502,6 +505,7 @@ void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const 
             lane.L += lane.throughput * (m.ka * scene_.ambient);
         }
         addDirectLightByDepth(batch, std::span<uint8_t>(active, n), counts);
+        if (!continues_) break;  // no lane could go on (continueLane), nor have a pending ray
 
         // Mirror and transmitted rays of the lanes that continue, traced together.
         ScratchArray<Ray, kMaxBatch> next;  // written before read: not initialised per bounce

@@ -134,6 +134,7 @@ private:
     const TextureCache* textures_;
     RenderSettings settings_;
     float pixelSpread_ = 0.f;
+    bool continues_ = false;  // some material sends rays on (mirror or glass) and the depth allows one
 };
 
 }  // namespace penumbra

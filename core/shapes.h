@@ -112,7 +112,8 @@ inline float planeHitDistance(const Plane& p, float ox, float oy, float oz, floa
     const float denom = dx * n.x + dy * n.y + dz * n.z;
     const float t = ((p.point.x - ox) * n.x + (p.point.y - oy) * n.y + (p.point.z - oz) * n.z) / denom;
     const bool faces = p.twoSided | (denom < 0.f);
-    const bool hit = faces & (std::fabs(denom) > 0.f) & (std::fabs(t) < kInfinity) & (t > tnear) & (t <= tfar);
+    const bool crosses = std::fabs(denom) > 0.f, finite = std::fabs(t) < kInfinity;
+    const bool hit = faces & crosses & finite & (t > tnear) & (t <= tfar);
     return hit ? t : kInfinity;
 }
 /// Inline: the accelerators test every plane against every ray.

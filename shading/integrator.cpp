@@ -445,12 +445,13 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
             const PathLane& lane = lanes[lit[q]];
             const ShadingPoint& sp = lane.sp;
             const OwenSobol2D seq = dimensionSequence(lane.key, dim);
+            const PhongSampler sampler(*sp.material, sp.kd, sp.ns, sp.wo);
             for (uint32_t k0 = 0; k0 < nBrdf; k0 += kSampleChunk) {
                 const uint32_t m = std::min(nBrdf - k0, kSampleChunk);
                 ScratchArray<Vec2f, kSampleChunk> u;
                 seq.samplePoints(lane.key.index, nBrdf, k0, m, u.data());
                 for (uint32_t k = 0; k < m; ++k)
-                    if (auto s = samplePhong(*sp.material, sp.kd, sp.ns, sp.wo, u[k])) brdfQueue.add(lit[q], sp, *s);
+                    if (auto s = sampler.sample(u[k])) brdfQueue.add(lit[q], sp, *s);
             }
         }
         brdfQueue.flush();

@@ -29,8 +29,10 @@ float phongDiffuseProbability(const Material& m, const Rgb& kd) {
     return wd / (wd + ws);
 }
 
-PhongSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi) {
-    const float pd = phongDiffuseProbability(m, kd);
+namespace {
+
+// phongEvaluate with the diffuse lobe's probability pd given.
+PhongSample evaluateWith(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi, float pd) {
     const float cosTheta = dot(n, wi);
     // cos(alpha) between wi and the mirror direction of wo, computed as
     // phongResponse does (the mirror direction of wi against wo: the same angle).
@@ -49,23 +51,52 @@ PhongSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, cons
     return PhongSample{wi, fCos, pdf};
 }
 
-std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u) {
-    const float pd = phongDiffuseProbability(m, kd);
+Vec3f mirrorOf(const Vec3f& n, const Vec3f& wo) { return normalize(2.f * dot(n, wo) * n - wo); }
+
+// samplePhong's steps once the diffuse lobe's probability pd is known; the
+// frames of the two lobes (about n, about the mirror direction of wo) come
+// from diffuseFrame() and lobeFrame(), asked only for the lobe u picks.
+template <class DiffuseFrame, class LobeFrame>
+std::optional<PhongSample> sampleLobes(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u,
+                                       float pd, const DiffuseFrame& diffuseFrame, const LobeFrame& lobeFrame) {
     if (pd <= 0.f && Rgb(m.ks).isBlack()) return std::nullopt;
     Vec3f wi;
     if (u.x < pd) {
         u.x = std::min(u.x / pd, 0x1.fffffep-1f);
-        wi = Frame::fromNormal(n).toWorld(squareToCosineHemisphere(u));
+        wi = diffuseFrame().toWorld(squareToCosineHemisphere(u));
     } else {
         u.x = std::min((u.x - pd) / (1.f - pd), 0x1.fffffep-1f);
-        const Vec3f r = normalize(2.f * dot(n, wo) * n - wo);
-        wi = Frame::fromNormal(r).toWorld(squareToPhongLobe(u, m.exponent));
+        wi = lobeFrame().toWorld(squareToPhongLobe(u, m.exponent));
     }
     wi = normalize(wi);
     if (!(dot(n, wi) > 0.f)) return std::nullopt;
-    const PhongSample s = phongEvaluate(m, kd, n, wo, wi);
+    const PhongSample s = evaluateWith(m, kd, n, wo, wi, pd);
     if (!(s.pdf > 0.f)) return std::nullopt;
     return s;
+}
+
+}  // namespace
+
+PhongSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi) {
+    return evaluateWith(m, kd, n, wo, wi, phongDiffuseProbability(m, kd));
+}
+
+std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u) {
+    return sampleLobes(
+        m, kd, n, wo, u, phongDiffuseProbability(m, kd), [&] { return Frame::fromNormal(n); },
+        [&] { return Frame::fromNormal(mirrorOf(n, wo)); });
+}
+
+PhongSampler::PhongSampler(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo)
+    : m_(m), kd_(kd), n_(n), wo_(wo), pd_(phongDiffuseProbability(m, kd)) {
+    if (pd_ > 0.f) diffuse_ = Frame::fromNormal(n);
+    if (pd_ < 1.f) lobe_ = Frame::fromNormal(mirrorOf(n, wo));
+}
+
+std::optional<PhongSample> PhongSampler::sample(Vec2f u) const {
+    return sampleLobes(
+        m_, kd_, n_, wo_, u, pd_, [this]() -> const Frame& { return diffuse_; },
+        [this]() -> const Frame& { return lobe_; });
 }
 
 float phongPdf(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi) {

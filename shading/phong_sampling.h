@@ -35,6 +35,23 @@ float phongDiffuseProbability(const Material& m, const Rgb& kd);
 /// nothing. kd is the textured diffuse albedo, as for phongResponse.
 std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u);
 
+/// samplePhong for many samples at one shading point: what does not depend
+/// on u (the diffuse lobe's probability, the frames about n and about the
+/// mirror direction) is worked out once. sample(u) returns what
+/// samplePhong(m, kd, n, wo, u) returns, bit for bit. Keeps a reference to m.
+class PhongSampler {
+public:
+    PhongSampler(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo);
+    std::optional<PhongSample> sample(Vec2f u) const;
+
+private:
+    const Material& m_;
+    Rgb kd_;
+    Vec3f n_, wo_;
+    float pd_;
+    Frame diffuse_, lobe_;  // where the lobe can be picked (pd > 0, pd < 1)
+};
+
 /// Solid-angle pdf with which samplePhong returns wi (for MIS weights).
 float phongPdf(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi);
 

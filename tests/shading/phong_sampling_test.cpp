@@ -72,6 +72,38 @@ TEST(PhongSampling, NormalizedLowExponentLosesMassBelowTheSurfaceAndFits) {
 TEST(PhongSampling, ClassicMixFits) { expectPhongFits({PhongModel::Classic, 0.6f, 0.2f, 10.f, 35.f}); }
 TEST(PhongSampling, ClassicSharpLobeFits) { expectPhongFits({PhongModel::Classic, 0.3f, 0.5f, 100.f, 50.f}); }
 
+// Direct light's BRDF samples at one shading point come from a PhongSampler
+// (the lobe probability and frames worked out once): the same samples, bit
+// for bit, as samplePhong for each, whichever lobes the material has.
+TEST(PhongSampling, ASamplerAtOnePointGivesSamplePhongsSamples) {
+    const Case cases[] = {{PhongModel::Classic, 0.3f, 0.2f, 40.f, 20.f},   {PhongModel::Normalized, 0.5f, 0.3f, 60.f, 70.f},
+                          {PhongModel::Normalized, 0.8f, 0.f, 1.f, 30.f},  {PhongModel::Classic, 0.f, 0.9f, 20.f, 40.f},
+                          {PhongModel::Normalized, 0.f, 0.f, 10.f, 10.f}};
+    for (const Case& c : cases) {
+        Material m;
+        m.model = c.model;
+        m.kd = Rgb(c.kd, 0.5f * c.kd, 0.25f * c.kd);
+        m.ks = Rgb(c.ks);
+        m.exponent = c.exponent;
+        const Vec3f n = normalize(Vec3f{0.3f, -0.4f, 0.8f});
+        const float a = c.viewAngleDeg * kPi / 180.f;
+        const Vec3f wo = Frame::fromNormal(n).toWorld(Vec3f{std::sin(a), 0.f, std::cos(a)});
+        const PhongSampler sampler(m, m.kd, n, wo);
+        int some = 0;
+        for (uint32_t i = 0; i < 4096; ++i) {
+            const Vec2f u = multiJitter2D(i, 4096, 3);
+            const auto want = samplePhong(m, m.kd, n, wo, u), got = sampler.sample(u);
+            ASSERT_EQ(got.has_value(), want.has_value()) << "sample " << i;
+            if (!want) continue;
+            ++some;
+            ASSERT_EQ(got->wi, want->wi) << "sample " << i;
+            ASSERT_EQ(got->fCos, want->fCos) << "sample " << i;
+            ASSERT_EQ(got->pdf, want->pdf) << "sample " << i;
+        }
+        EXPECT_EQ(some > 0, c.kd > 0.f || c.ks > 0.f);
+    }
+}
+
 TEST(PhongSampling, EstimatesTheAlbedoItSamples) {
     // E[f cos / pdf] over sampled directions = the directional albedo
     // integral of f cos, computed here by brute force on a fine grid.

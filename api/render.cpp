@@ -173,13 +173,13 @@ RenderJob Renderer::renderAsync(const PreparedScene& scene, const Camera& camera
         auto state = std::make_shared<JobState>();
         state->image = Framebuffer(settings);
 
-        auto work = [state, scene, cam = camera, s, opts = std::move(options)]() {
+        auto work = [state, prepared = PreparedScene(scene), cam = camera, s, opts = std::move(options)]() mutable {
             JobResult result;
             const uint32_t spp = uint32_t(s.spp);
             const uint32_t step = opts.passSamples > 0 ? std::min(opts.passSamples, spp) : spp;
             try {
                 guarded([&] {
-                    const PreparedImpl& p = *Access::of(scene);
+                    const PreparedImpl& p = *Access::of(prepared);
                     FramebufferImpl& fb = Access::of(state->image);
                     for (uint32_t first = 0; first < spp; first += step) {
                         if (state->cancel.load())
@@ -210,6 +210,12 @@ RenderJob Renderer::renderAsync(const PreparedScene& scene, const Camera& camera
                     // (std::terminate on this thread); the job's outcome stands.
                 }
             }
+            // The callbacks and the scene are released before the job says it
+            // is done, not when this thread ends: whoever waited may then tear
+            // down what they hold (a Python interpreter at exit, whose
+            // finalisation stops a thread that asks for the GIL afterwards).
+            opts = AsyncOptions{};
+            prepared = PreparedScene{};
             std::lock_guard<std::mutex> lock(state->mutex);
             state->error = result.error;
             state->stats = result.stats;

@@ -3,6 +3,7 @@
 // Only the public header is used here, as a host would.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -528,6 +529,39 @@ TEST(ApiAsync, JobsReportPassesProgressAndCompletion) {
     EXPECT_FALSE(sameBits(snapshots.front(), oneShot));
     const pnb::Framebuffer taken = job.takeFramebuffer();
     EXPECT_TRUE(sameBits(taken.rgba(), oneShot));
+}
+
+// A job drops its copies of the callbacks (and of the scene) before wait()
+// returns, not when its thread ends a moment later: the caller may tear down
+// what they capture right after (the Python module does so at interpreter
+// exit, where a thread that still held a Python callable would be stopped
+// while it releases it).
+TEST(ApiAsync, CallbacksAreReleasedBeforeWaitReturns) {
+    // Counts its live copies; releasing one takes a while, so a copy the job's
+    // thread dropped only after wait() returned would still be counted.
+    struct SlowToRelease {
+        std::shared_ptr<std::atomic<int>> live;
+        explicit SlowToRelease(std::shared_ptr<std::atomic<int>> l) : live(std::move(l)) { ++*live; }
+        SlowToRelease(const SlowToRelease& o) : live(o.live) { ++*live; }
+        SlowToRelease& operator=(const SlowToRelease&) = delete;
+        ~SlowToRelease() {
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            --*live;
+        }
+    };
+    const pnb::Renderer renderer = quietRenderer();
+    const pnb::PreparedScene prepared = renderer.prepare(roomScene());
+    for (int round = 0; round < 3; ++round) {
+        auto live = std::make_shared<std::atomic<int>>(0);
+        pnb::RenderJob job;
+        {
+            pnb::AsyncOptions options;
+            options.onComplete = [hold = SlowToRelease(live)](const pnb::JobResult&) {};
+            job = renderer.renderAsync(prepared, roomCamera(), smallSettings(), std::move(options));
+        }
+        job.wait();
+        EXPECT_EQ(live->load(), 0) << "round " << round;
+    }
 }
 
 TEST(ApiAsync, DestroyingARunningJobCancelsIt) {

@@ -418,6 +418,7 @@ struct AsyncOptions {
     /// Called once on the job's thread when it ends (finished, cancelled or
     /// failed), before wait() returns. Must not wait() on its own job.
     std::function<void(const JobResult& result)> onComplete;
+    // The job destroys its copies of these callbacks before wait() returns.
 };
 
 /// A running asynchronous render. Move-only; destroying it cancels the render

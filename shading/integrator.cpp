@@ -290,6 +290,8 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
     const bool power = settings_.lightSelection == LightSelection::Power;
     ShadowLanes shadowLanes;  // the lit lanes' shading points, gathered on first use
     bool shadowLanesSet = false;
+    LanePoints litPoints;  // the lit lanes' points and normals alone, gathered on first use (every light asks)
+    bool litPointsSet = false;
     if (!power) {
         for (size_t j = 0; j < nLights; ++j) {
             const Light& light = lights_[j];
@@ -344,8 +346,10 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
                     m = 0;
                 };
                 // Points whose every sample would be discarded take no lanes.
-                LanePoints litPoints;
-                for (size_t q = 0; q < nLit; ++q) litPoints.set(int(q), lanes[lit[q]].sp.p, lanes[lit[q]].sp.ng);
+                if (!litPointsSet) {
+                    for (size_t q = 0; q < nLit; ++q) litPoints.set(int(q), lanes[lit[q]].sp.p, lanes[lit[q]].sp.ng);
+                    litPointsSet = true;
+                }
                 alignas(64) int32_t reach[kLaneWidth];
                 light.mayReachLanes(litPoints, int(nLit), reach);
                 for (size_t q = 0; q < nLit; ++q) {

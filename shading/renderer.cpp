@@ -120,7 +120,8 @@ struct BlockSampleSets {
 };
 
 // The keys of a block's pixels (pixelSampleKey) and the patterns of their
-// pixel and lens sets, as loops over the pixels.
+// pixel sets, and of their lens sets where lensPatterns is not null, as loops
+// over the pixels.
 PENUMBRA_LANE_CLONES void blockKeys(uint64_t seed, int width, const PixelRect& b, int count, uint64_t* keys,
                                     uint32_t* pixelPatterns, uint32_t* lensPatterns) {
     const int bw = b.x1 - b.x0;
@@ -128,10 +129,9 @@ PENUMBRA_LANE_CLONES void blockKeys(uint64_t seed, int width, const PixelRect& b
         const uint64_t pixel = uint64_t(b.y0 + i / bw) * uint64_t(width) + uint64_t(b.x0 + i % bw);
         keys[i] = pixelSampleKey(seed, pixel);
     }
-    for (int i = 0; i < count; ++i) {
-        pixelPatterns[i] = setPattern(keys[i], 0, kPixelDimension);
-        lensPatterns[i] = setPattern(keys[i], 0, kLensDimension);
-    }
+    for (int i = 0; i < count; ++i) pixelPatterns[i] = setPattern(keys[i], 0, kPixelDimension);
+    if (lensPatterns)
+        for (int i = 0; i < count; ++i) lensPatterns[i] = setPattern(keys[i], 0, kLensDimension);
 }
 
 // Camera samples of one block of up to 4x4 pixels: for each sample index the
@@ -151,7 +151,8 @@ bool renderBlock(const PassContext& c, const PixelRect& b, BlockSampleSets& sets
     float pixelX[kMax], pixelY[kMax];  // the pixels' corners on the film
     const bool asLanes = bool(sets.pixel);
     alignas(64) uint32_t pixelPattern[kMax], lensPattern[kMax];
-    blockKeys(c.settings.seed, c.settings.width, b, int(count), pixelKey, pixelPattern, lensPattern);
+    blockKeys(c.settings.seed, c.settings.width, b, int(count), pixelKey, pixelPattern,
+              c.useLens ? lensPattern : nullptr);
     for (size_t i = 0; i < count; ++i) {
         const int x = b.x0 + int(i) % bw, y = b.y0 + int(i) / bw;
         filmIndex[i] = c.film.index(x, y);

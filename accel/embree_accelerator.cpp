@@ -268,7 +268,13 @@ public:
         return best;
     }
 
+    // The virtual entry points hand over to non-virtual bodies compiled per ISA (core/lane_clones.h).
     void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out) const override {
+        intersectPackets(rays, out);
+    }
+
+    PENUMBRA_LANE_CLONES void intersectPackets(std::span<const Ray> rays,
+                                               std::span<std::optional<PrimIntersection>> out) const {
         // Packets as wide as the remaining rays need: 16, 8 or 4 lanes.
         for (size_t i = 0; i < rays.size();) {
             const size_t left = rays.size() - i;
@@ -345,7 +351,8 @@ public:
     // whose ray is invalid (counted) or has an empty interval stay inactive,
     // so no invalid ray reaches Embree; they miss, exactly as intersectPrim says.
     template <int W>
-    size_t intersectPacket(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out) const {
+    [[gnu::always_inline]] size_t intersectPacket(std::span<const Ray> rays,
+                                                  std::span<std::optional<PrimIntersection>> out) const {
         const int n = static_cast<int>(std::min<size_t>(W, rays.size()));
         alignas(64) int valid[W];
         alignas(64) int ok[W];
@@ -406,7 +413,9 @@ public:
         return size_t(n);
     }
 
-    void occludedLanes(const RayLanes& rays, uint8_t* out) const override {
+    void occludedLanes(const RayLanes& rays, uint8_t* out) const override { occludedRayLanes(rays, out); }
+
+    PENUMBRA_LANE_CLONES void occludedRayLanes(const RayLanes& rays, uint8_t* out) const {
         alignas(64) int ok[RayLanes::kWidth];
         alignas(64) RTCRay16 pr;
         loadRayLanes(rays, pr, ok);
@@ -445,7 +454,8 @@ public:
     // The occlusion query of a loaded packet whose valid lanes ok[] marks
     // (the others hold the idle ray); writes the first n answers.
     template <int W>
-    void occludedLoaded(typename Packet<W>::RayOnly& pr, const int* ok, int n, uint8_t* out) const {
+    [[gnu::always_inline]] void occludedLoaded(typename Packet<W>::RayOnly& pr, const int* ok, int n,
+                                               uint8_t* out) const {
         alignas(64) int valid[W];
         alignas(64) int blocked[W];
         // The open interval (tnear, tfar), as in occluded(): every test here

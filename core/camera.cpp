@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "core/lane_clones.h"
 #include "core/sampling.h"
 
 namespace penumbra {
@@ -36,7 +37,7 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
     invHeight2_ = 2.f / static_cast<float>(height);
 }
 
-void Camera::generateRays(std::span<const Vec2f> film, std::span<const Vec2f> lens, std::span<Ray> out) const {
+PENUMBRA_LANE_CLONES void Camera::generateRays(std::span<const Vec2f> film, std::span<const Vec2f> lens, std::span<Ray> out) const {
     if (desc_.aperture > 0.f) {
         for (size_t i = 0; i < film.size(); ++i) out[i] = generateRay(film[i].x, film[i].y, lens[i]);
         return;

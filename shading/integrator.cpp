@@ -1,5 +1,6 @@
 #include "shading/integrator.h"
 
+#include "core/lane_clones.h"
 #include "core/scratch_array.h"
 #include "core/texture_cache.h"
 #include "lights/environment_light.h"
@@ -54,7 +55,7 @@ Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLengt
     return m.kd * textures_->lookup(m.textureIndex, hit.uv, footprint);
 }
 
-void Integrator::shade(const Hit& hit, const Ray& ray, float pathLength, ShadingPoint& sp) const {
+PENUMBRA_LANE_CLONES void Integrator::shade(const Hit& hit, const Ray& ray, float pathLength, ShadingPoint& sp) const {
     sp.material = &scene_.material(hit.material);
     sp.p = hit.p;
     sp.wo = -ray.d;
@@ -220,7 +221,7 @@ constexpr float kLargeLightSolidAngle = 1.f;
 // little over a small light) while a BRDF sample costs a closest-hit ray
 // that mostly misses; under a large light the cosine's variation is what
 // is left, and cosine-weighted BRDF samples remove it.
-bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
+[[gnu::always_inline]] inline bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
     if (lights.environment()) return true;          // an environment subtends 4 pi
     if (lights.areaLightCount() == 0) return false;  // point and directional lights: nothing a ray can hit
     if (!Rgb(sp.material->ks).isBlack()) return true;
@@ -249,7 +250,7 @@ uint32_t traceLightLanes(const Light& light, const ShadowLanes& at, const uint64
 
 }  // namespace
 
-void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth,
+PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth,
                                 RayCounts& counts) const {
     const size_t nLights = lights_.size();
     if (nLights == 0) return;
@@ -464,7 +465,7 @@ void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8
     for (size_t q = 0; q < nLit; ++q) lanes[lit[q]].L += lanes[lit[q]].throughput * sum[lit[q]];
 }
 
-void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
+PENUMBRA_LANE_CLONES void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
                                std::span<const SampleKey> keys, std::span<Rgb> radiance,
                                std::span<FirstHit> firstHits, RayCounts& counts) const {
     const size_t n = std::min(cameraRays.size(), kMaxBatch);

@@ -139,7 +139,7 @@ PENUMBRA_LANE_CLONES void blockKeys(uint64_t seed, int width, const PixelRect& b
 // pixel still receives its samples in sample order, so films do not depend on
 // the grouping. Cancellation is checked before every sample index (a batch of
 // at most 16 camera samples). Returns false when cancelled.
-bool renderBlock(const PassContext& c, const PixelRect& b, BlockSampleSets& sets, RayCounts& counts) {
+PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, BlockSampleSets& sets, RayCounts& counts) {
     constexpr size_t kMax = Integrator::kMaxBatch;
     static_assert(kMax <= size_t(MultiJitterLanes::kLanes), "a block's pixels fit the lanes");
     const int bw = b.x1 - b.x0;

@@ -366,10 +366,12 @@ public:
             rh.hit.primID[l] = RTC_INVALID_GEOMETRY_ID;
             rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
         }
-        if (any && hasEmbreeGeometry_) {
+        alignas(64) int query[W];  // the lanes Embree answers: valid ones that meet its bounds
+        for (int l = 0; l < W; ++l) query[l] = valid[l];
+        if (any && hasEmbreeGeometry_ && keepLanesInRootBounds<W>(rh.ray, query)) {
             RTCIntersectContext ctx;
             rtcInitIntersectContext(&ctx);
-            Packet<W>::intersect(valid, rtcScene_.get(), &ctx, &rh);
+            Packet<W>::intersect(query, rtcScene_.get(), &ctx, &rh);
         }
         // Planes after Embree, each against the lane's closest hit so far
         // (Embree shrank tfar to it), as closerPlane does for one ray.
@@ -474,7 +476,7 @@ public:
             any |= valid[l];
         }
         for (int l = 0; l < n; ++l) out[l] = static_cast<uint8_t>(blocked[l]);
-        if (!any) return;
+        if (!any || !keepLanesInRootBounds<W>(pr, valid)) return;
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         Packet<W>::occluded(valid, rtcScene_.get(), &ctx, &pr);
@@ -563,6 +565,57 @@ private:
         rtcCommitScene(rtcScene_.get());
         check("rtcCommitScene");
         memoryAfterCommit_ = static_cast<size_t>(std::max<int64_t>(0, memoryBytes_.load()));
+        if (hasEmbreeGeometry_) setRootBounds();
+    }
+
+    // The box every Embree geometry lies in (rtcGetSceneBounds), grown by a
+    // margin far above the rounding of the hits and of the slab test, so that
+    // the packet pre-test (missesRootBounds) passes every ray Embree could hit.
+    void setRootBounds() {
+        RTCBounds b;
+        rtcGetSceneBounds(rtcScene_.get(), &b);
+        check("rtcGetSceneBounds");
+        const Vec3f lo{b.lower_x, b.lower_y, b.lower_z}, hi{b.upper_x, b.upper_y, b.upper_z};
+        if (!isFinite(lo) || !isFinite(hi) || !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return;
+        const float pad = 1e-4f * (maxComponent(hi - lo) + std::max(maxAbsComponent(lo), maxAbsComponent(hi))) + 1e-6f;
+        rootLo_ = lo - Vec3f(pad);
+        rootHi_ = hi + Vec3f(pad);
+        hasRootBounds_ = true;
+    }
+
+    // Clears valid[l] for the lanes whose interval [tnear, tfar] does not meet
+    // the root bounds (a slab test over the lanes; no NaN: a zero direction
+    // component takes a huge finite reciprocal). Embree would find nothing for
+    // them, and a packet with no lane left skips its call: in small scenes the
+    // call's fixed cost is most of a packet's (the textbook scene's ground and
+    // sky). A packet whose rays all start inside the bounds (a closed room)
+    // cannot lose a lane and skips the slab test and its divisions. Returns
+    // whether any lane is left.
+    template <int W, class PacketRay>
+    [[gnu::always_inline]] bool keepLanesInRootBounds(const PacketRay& p, int* valid) const {
+        const Vec3f lo = rootLo_, hi = rootHi_;
+        int any = 0, outside = 0;
+        for (int l = 0; l < W; ++l) {
+            any |= valid[l];
+            outside |= valid[l] & int(!(p.org_x[l] >= lo.x && p.org_x[l] <= hi.x && p.org_y[l] >= lo.y &&
+                                         p.org_y[l] <= hi.y && p.org_z[l] >= lo.z && p.org_z[l] <= hi.z));
+        }
+        if (!hasRootBounds_ || !outside) return any != 0;
+        any = 0;
+        for (int l = 0; l < W; ++l) {
+            const float ix = 1.f / (p.dir_x[l] != 0.f ? p.dir_x[l] : 1e-30f);
+            const float iy = 1.f / (p.dir_y[l] != 0.f ? p.dir_y[l] : 1e-30f);
+            const float iz = 1.f / (p.dir_z[l] != 0.f ? p.dir_z[l] : 1e-30f);
+            const float ax = (lo.x - p.org_x[l]) * ix, bx = (hi.x - p.org_x[l]) * ix;
+            const float ay = (lo.y - p.org_y[l]) * iy, by = (hi.y - p.org_y[l]) * iy;
+            const float az = (lo.z - p.org_z[l]) * iz, bz = (hi.z - p.org_z[l]) * iz;
+            const float t0 = std::max(std::max(p.tnear[l], std::min(ax, bx)), std::max(std::min(ay, by), std::min(az, bz)));
+            const float t1 = std::min(std::min(p.tfar[l], std::max(ax, bx)), std::min(std::max(ay, by), std::max(az, bz)));
+            const bool misses = t0 > t1 + 1e-5f * std::fabs(t1);
+            valid[l] = misses ? 0 : valid[l];
+            any |= valid[l];
+        }
+        return any != 0;
     }
 
     template <class Shape>
@@ -700,6 +753,8 @@ private:
     std::atomic<int64_t> memoryBytes_{0};
     size_t memoryAfterCommit_ = 0;
     bool hasEmbreeGeometry_ = false;
+    bool hasRootBounds_ = false;  // rootLo_/rootHi_ hold the padded bounds of the Embree geometry
+    Vec3f rootLo_, rootHi_;
     std::vector<uint32_t> boxOfQuad_;  // box index of each box quad (primID)
     unsigned firstInstanceGeomId_ = kFirstMeshGeomId;
 

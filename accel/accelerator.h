@@ -82,6 +82,26 @@ public:
         }
     }
 
+    /// Closest hits of the rays of the active lanes (RayLanes::active), as
+    /// intersect() finds them, into the first out.size() (at most 16)
+    /// elements; nullopt for idle lanes. Embree takes the lanes' arrays as a
+    /// 16-wide packet as they are: the renderer's camera rays.
+    void intersectLanes(const RayLanes& rays, std::span<std::optional<Hit>> out) const {
+        EmptyOptionals<PrimIntersection, RayLanes::kWidth> thin;
+        intersectPrimLanes(rays, thin.data());
+        for (size_t l = 0; l < out.size(); ++l) {
+            if (thin[l])
+                scene_.completeHit(rays.ray(int(l)), thin[l]->ref, thin[l]->t, thin[l]->u, thin[l]->v, out[l].emplace());
+            else
+                out[l].reset();
+        }
+    }
+    /// intersectPrim() for each active lane's ray, nullopt for idle lanes (all 16 written).
+    virtual void intersectPrimLanes(const RayLanes& rays, std::optional<PrimIntersection>* out) const {
+        for (int l = 0; l < RayLanes::kWidth; ++l)
+            out[l] = rays.active[l] ? intersectPrim(rays.ray(l)) : std::nullopt;
+    }
+
     virtual std::string name() const = 0;
 
     /// Bytes held by the acceleration structure itself (not the scene arrays).

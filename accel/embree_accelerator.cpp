@@ -354,10 +354,30 @@ public:
     [[gnu::always_inline]] size_t intersectPacket(std::span<const Ray> rays,
                                                   std::span<std::optional<PrimIntersection>> out) const {
         const int n = static_cast<int>(std::min<size_t>(W, rays.size()));
-        alignas(64) int valid[W];
         alignas(64) int ok[W];
         alignas(64) typename Packet<W>::RayHit rh;
         loadLanes<W>(rays, n, rh.ray, ok);
+        answerPacket<W>(rh, ok, n, out.data());
+        return size_t(n);
+    }
+
+    void intersectPrimLanes(const RayLanes& rays, std::optional<PrimIntersection>* out) const override {
+        intersectRayLanes(rays, out);
+    }
+
+    PENUMBRA_LANE_CLONES void intersectRayLanes(const RayLanes& rays, std::optional<PrimIntersection>* out) const {
+        alignas(64) int ok[RayLanes::kWidth];
+        alignas(64) RTCRayHit16 rh;
+        loadRayLanes(rays, rh.ray, ok);
+        answerPacket<RayLanes::kWidth>(rh, ok, RayLanes::kWidth, out);
+    }
+
+    // The closest-hit query of a loaded packet whose valid lanes ok[] marks
+    // (the others hold the idle ray); writes the first n answers.
+    template <int W>
+    [[gnu::always_inline]] void answerPacket(typename Packet<W>::RayHit& rh, const int* ok, int n,
+                                             std::optional<PrimIntersection>* out) const {
+        alignas(64) int valid[W];
         int any = 0;
         for (int l = 0; l < W; ++l) {
             valid[l] = (ok[l] & (rh.ray.tfar[l] > rh.ray.tnear[l])) ? -1 : 0;
@@ -402,7 +422,6 @@ public:
                 out[l].reset();
             }
         }
-        return size_t(n);
     }
 
     template <int W>

@@ -37,23 +37,24 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
     invHeight2_ = 2.f / static_cast<float>(height);
 }
 
-PENUMBRA_LANE_CLONES void Camera::generateRays(std::span<const Vec2f> film, std::span<const Vec2f> lens, std::span<Ray> out) const {
+PENUMBRA_LANE_CLONES void Camera::generateRayLanes(const float* filmX, const float* filmY, const Vec2f* lens, int n,
+                                                   RayLanes& out) const {
+    for (int l = 0; l < RayLanes::kWidth; ++l) out.active[l] = l < n;
     if (desc_.aperture > 0.f) {
-        for (size_t i = 0; i < film.size(); ++i) out[i] = generateRay(film[i].x, film[i].y, lens[i]);
+        for (int l = 0; l < n; ++l) out.set(l, generateRay(filmX[l], filmY[l], lens[l]));
         return;
     }
-    // Directions as arrays (a loop that vectorises), then the rays.
-    constexpr size_t kChunk = 16;
-    for (size_t b = 0; b < film.size(); b += kChunk) {
-        const size_t n = std::min(kChunk, film.size() - b);
-        float dx[kChunk], dy[kChunk], dz[kChunk];
-        for (size_t i = 0; i < n; ++i) {
-            const Vec3f d = normalize(filmDirection(film[b + i].x, film[b + i].y));
-            dx[i] = d.x;
-            dy[i] = d.y;
-            dz[i] = d.z;
-        }
-        for (size_t i = 0; i < n; ++i) out[b + i] = Ray{desc_.eye, Vec3f{dx[i], dy[i], dz[i]}, 0.f, kInfinity};
+    const Vec3f eye = desc_.eye;
+    for (int l = 0; l < n; ++l) {
+        const Vec3f d = normalize(filmDirection(filmX[l], filmY[l]));
+        out.ox[l] = eye.x;
+        out.oy[l] = eye.y;
+        out.oz[l] = eye.z;
+        out.dx[l] = d.x;
+        out.dy[l] = d.y;
+        out.dz[l] = d.z;
+        out.tnear[l] = 0.f;
+        out.tfar[l] = kInfinity;
     }
 }
 

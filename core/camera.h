@@ -6,6 +6,7 @@
 
 #include "core/math.h"
 #include "core/ray.h"
+#include "core/ray_lanes.h"
 
 namespace penumbra {
 
@@ -28,11 +29,12 @@ public:
         return lensRay(dir, uLens);
     }
 
-    /// generateRay for each film position film[i] (pixels) and lens sample
-    /// lens[i], the same rays. A pinhole camera's are made in loops over the
-    /// batch that vectorise (the square roots and divisions of the rays
-    /// overlap); lens may be empty for a pinhole camera.
-    void generateRays(std::span<const Vec2f> film, std::span<const Vec2f> lens, std::span<Ray> out) const;
+    /// generateRay for the film positions (filmX[l], filmY[l]) (pixels) and
+    /// lens samples lens[l] of the first n lanes, the same rays, written as
+    /// lanes (out.active: 1 for the first n, 0 after), the form the packet
+    /// query reads. A pinhole camera's are made in a loop over the lanes that
+    /// vectorises; lens may be null for a pinhole camera.
+    void generateRayLanes(const float* filmX, const float* filmY, const Vec2f* lens, int n, RayLanes& out) const;
 
     const CameraDesc& desc() const { return desc_; }
 

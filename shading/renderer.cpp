@@ -168,8 +168,10 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
             if (c.useLens) lensSet[i].emplace(spp, sets.grid, lensPattern[i], sets.tabulate);
         }
     }
-    Vec2f film[kMax], lens[kMax];
-    Ray rays[kMax];
+    alignas(64) float filmX[kMax], filmY[kMax];
+    Vec2f lens[kMax];
+    RayLanes rayLanes;  // the camera rays as the packet query reads them
+    Ray rays[kMax];     // and one by one, as the integrators keep them
     EmptyOptionals<Hit, kMax> hits;
     SampleKey keys[kMax];
     Rgb radiance[kMax];
@@ -180,7 +182,10 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
         if (asLanes) {
             alignas(64) float ux[kMax], uy[kMax];
             sets.pixel->sample(s, ux, uy);
-            for (size_t i = 0; i < count; ++i) film[i] = Vec2f{pixelX[i] + ux[i], pixelY[i] + uy[i]};
+            for (size_t i = 0; i < count; ++i) {
+                filmX[i] = pixelX[i] + ux[i];
+                filmY[i] = pixelY[i] + uy[i];
+            }
             if (c.useLens) {
                 sets.lens->sample(s, ux, uy);
                 for (size_t i = 0; i < count; ++i) lens[i] = Vec2f{ux[i], uy[i]};
@@ -188,16 +193,15 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
         } else {
             for (size_t i = 0; i < count; ++i) {
                 const Vec2f u = pixelSet[i]->sample(s);
-                film[i] = Vec2f{pixelX[i] + u.x, pixelY[i] + u.y};
+                filmX[i] = pixelX[i] + u.x;
+                filmY[i] = pixelY[i] + u.y;
                 if (c.useLens) lens[i] = lensSet[i]->sample(s);
             }
         }
         for (size_t i = 0; i < count; ++i) keys[i] = SampleKey{pixelKey[i], s};
-        c.camera.generateRays(std::span<const Vec2f>(film, count),
-                              c.useLens ? std::span<const Vec2f>(lens, count) : std::span<const Vec2f>(),
-                              std::span<Ray>(rays, count));
-        c.prepared.accelerator().intersectBatch(std::span<const Ray>(rays, count),
-                                                std::span<std::optional<Hit>>(hits.data(), count));
+        c.camera.generateRayLanes(filmX, filmY, c.useLens ? lens : nullptr, int(count), rayLanes);
+        c.prepared.accelerator().intersectLanes(rayLanes, std::span<std::optional<Hit>>(hits.data(), count));
+        for (size_t i = 0; i < count; ++i) rays[i] = rayLanes.ray(int(i));
         const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();
         if (c.path)
             c.path->radianceBatch(std::span<const Ray>(rays, count), std::span<const std::optional<Hit>>(hits.data(), count),

@@ -1,5 +1,5 @@
-// Camera rays: the batch (generateRays, whose pinhole loops vectorise) gives
-// exactly generateRay's rays, and those rays go where the camera looks.
+// Camera rays: the lanes (generateRayLanes, whose pinhole loop vectorises)
+// hold exactly generateRay's rays, and those rays go where the camera looks.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -29,32 +29,40 @@ CameraDesc lookingAtOrigin(float aperture) {
 
 }  // namespace
 
-TEST(Camera, BatchOfRaysIsGenerateRayBitForBit) {
+TEST(Camera, RayLanesAreGenerateRayBitForBit) {
     for (const float aperture : {0.f, 0.25f}) {
         const Camera camera(lookingAtOrigin(aperture), 64, 48);
-        // 37 positions: two full chunks of 16 and a partial one, edges included.
-        std::vector<Vec2f> film, lens;
-        for (uint32_t i = 0; i < 37; ++i) {
-            film.push_back(Vec2f{64.f * toUnitFloat(mix64(i)), 48.f * toUnitFloat(mix64(i + 1000))});
-            lens.push_back(Vec2f{toUnitFloat(mix64(i + 2000)), toUnitFloat(mix64(i + 3000))});
-        }
-        film[0] = {0.f, 0.f};
-        film[1] = {64.f, 48.f};
-        std::vector<Ray> batch(film.size());
-        camera.generateRays(film, lens, batch);
-        for (size_t i = 0; i < film.size(); ++i) {
-            const Ray one = camera.generateRay(film[i].x, film[i].y, lens[i]);
-            EXPECT_TRUE(sameRay(batch[i], one)) << "aperture " << aperture << ", ray " << i;
-            EXPECT_NEAR(length(batch[i].d), 1.f, 1e-6f);
+        // Full and partial sets of lanes, edges of the film included.
+        for (const int n : {16, 11, 1}) {
+            float filmX[RayLanes::kWidth], filmY[RayLanes::kWidth];
+            Vec2f lens[RayLanes::kWidth];
+            for (int l = 0; l < n; ++l) {
+                const uint32_t i = uint32_t(l + 16 * n);
+                filmX[l] = 64.f * toUnitFloat(mix64(i));
+                filmY[l] = 48.f * toUnitFloat(mix64(i + 1000));
+                lens[l] = Vec2f{toUnitFloat(mix64(i + 2000)), toUnitFloat(mix64(i + 3000))};
+            }
+            filmX[0] = filmY[0] = 0.f;
+            if (n > 1) filmX[1] = 64.f, filmY[1] = 48.f;
+            RayLanes lanes;
+            camera.generateRayLanes(filmX, filmY, aperture > 0.f ? lens : nullptr, n, lanes);
+            for (int l = 0; l < RayLanes::kWidth; ++l) {
+                EXPECT_EQ(lanes.active[l], l < n ? 1 : 0) << "lane " << l;
+                if (l >= n) continue;
+                const Ray one = camera.generateRay(filmX[l], filmY[l], lens[l]);
+                EXPECT_TRUE(sameRay(lanes.ray(l), one)) << "aperture " << aperture << ", lane " << l << " of " << n;
+                EXPECT_NEAR(length(lanes.ray(l).d), 1.f, 1e-6f);
+            }
         }
     }
 }
 
 TEST(Camera, CentreRayLooksAtTheTarget) {
     const Camera camera(lookingAtOrigin(0.f), 64, 48);
-    const Vec2f centre{32.f, 24.f};
-    Ray r;
-    camera.generateRays(std::span<const Vec2f>(&centre, 1), std::span<const Vec2f>(), std::span<Ray>(&r, 1));
+    const float x = 32.f, y = 24.f;
+    RayLanes lanes;
+    camera.generateRayLanes(&x, &y, nullptr, 1, lanes);
+    const Ray r = lanes.ray(0);
     const Vec3f toTarget = normalize(Vec3f{-1.f, -2.f, -9.f});
     EXPECT_NEAR(r.d.x, toTarget.x, 1e-6f);
     EXPECT_NEAR(r.d.y, toTarget.y, 1e-6f);

@@ -188,7 +188,7 @@ TEST_P(EachAccelerator, InvalidRaysAreCountedMissesWithEmbreeToo) {
     }
 }
 
-TEST_P(EachAccelerator, RayLanesAnswerAsOccludedDoesAndIdleLanesAreNotCounted) {
+TEST_P(EachAccelerator, RayLanesAnswerAsOccludedAndIntersectDoAndIdleLanesAreNotCounted) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     Scene scene = smallScene();
     const auto acc = makeAccelerator(GetParam(), scene);
@@ -227,6 +227,25 @@ TEST_P(EachAccelerator, RayLanesAnswerAsOccludedDoesAndIdleLanesAreNotCounted) {
             blocked += out[l];
         }
         EXPECT_GT(blocked, 0);
+
+        // Closest hits: the completed hit of intersect(), nothing for idle lanes.
+        EmptyOptionals<Hit, RayLanes::kWidth> hits;
+        for (int l = 0; l < RayLanes::kWidth; ++l) hits[l].emplace();  // stale answers to be replaced
+        const uint64_t beforeHits = acc->invalidRayCount();
+        acc->intersectLanes(lanes, std::span<std::optional<Hit>>(hits.data(), RayLanes::kWidth));
+        EXPECT_EQ(acc->invalidRayCount() - beforeHits, expectedInvalid) << acc->name();
+        int found = 0;
+        for (int l = 0; l < RayLanes::kWidth; ++l) {
+            const std::optional<Hit> want = index[l] >= 0 ? acc->intersect(rays[size_t(index[l])]) : std::nullopt;
+            ASSERT_EQ(hits[l].has_value(), want.has_value()) << acc->name() << " lane " << l;
+            if (!want) continue;
+            ++found;
+            EXPECT_EQ(hits[l]->ref, want->ref) << acc->name() << " lane " << l;
+            EXPECT_EQ(hits[l]->t, want->t) << acc->name() << " lane " << l;
+            EXPECT_EQ(hits[l]->p, want->p) << acc->name() << " lane " << l;
+            EXPECT_EQ(hits[l]->ns, want->ns) << acc->name() << " lane " << l;
+        }
+        EXPECT_GT(found, 0);
     }
 }
 

@@ -45,6 +45,18 @@ trap 'rm -rf "$tmp"' EXIT
 runs="$tmp/runs.jsonl"
 : > "$runs"
 
+# Each Penumbra process runs from a fresh copy of the built libraries (found
+# through LD_LIBRARY_PATH, which comes before the build's RUNPATH). Identical
+# library files were measured up to 10% apart in render time on this machine
+# (the file the linker wrote against copies of it; the copies ran alike), so
+# the medians sample that spread instead of inheriting one file's placement.
+export LD_LIBRARY_PATH="$tmp/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+fresh_libs() {
+  rm -rf "$tmp/lib"
+  mkdir -p "$tmp/lib"
+  cp -P "$build"/lib/*.so* "$tmp/lib/"
+}
+
 # timed NAME KIND -- CMD...: one whole-process run; appends a JSON line with
 # wall, user and sys seconds and peak RSS (KiB), plus the stats JSON if any.
 timed() {
@@ -63,8 +75,9 @@ timed() {
 }
 
 echo "penumbra --help and a 32-triangle render" >&2
-for i in $(seq 1 10); do timed help penumbra -- "$penumbra" --help; done
+for i in $(seq 1 10); do fresh_libs; timed help penumbra -- "$penumbra" --help; done
 for i in $(seq 1 3); do
+  fresh_libs
   timed cornell32 penumbra -- "$penumbra" "$here/assets/cornell/cornell.obj" --width 64 --height 64 --spp 1 \
     -o "$tmp/c.png" -q --stats-json "$tmp/stats.json"
 done
@@ -73,6 +86,7 @@ echo "textbook scenes (render time per camera sample from --stats-json)" >&2
 for scene in textbook_fig18_04 textbook_fig24_06; do
   for i in $(seq 1 "$reps"); do
     for t in 1 2; do
+      fresh_libs
       timed "$scene" "penumbra_${t}t" -- "$penumbra" "$bench_dir/$scene.json" --threads $t -o "$tmp/t.exr" -q \
         --stats-json "$tmp/stats.json"
     done
@@ -94,6 +108,7 @@ if command -v povray > /dev/null; then
       # shellcheck disable=SC2086
       (cd "$bench_dir" && timed "${cfg_name[$c]}" povray -- povray -D -GR +Iroom.pov +O"$tmp/room.png" +W512 +H512 \
         +WT2 ${cfg_pov[$c]})
+      fresh_libs
       # shellcheck disable=SC2086
       timed "${cfg_name[$c]}" penumbra -- "$penumbra" "$bench_dir/room.json" ${cfg_pen[$c]} --threads 2 \
         -o "$tmp/room.png" -q --stats-json "$tmp/stats.json"

@@ -5,7 +5,12 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
-build/bin/penumbra-bench --obj ../shared/scenes/bunny_stanford/bun_zipper.obj \
+# penumbra-bench runs from a copy of the built libraries, as the anchors'
+# processes do (scripts/bench_anchors.sh says why).
+libs=$(mktemp -d)
+trap 'rm -rf "$libs"' EXIT
+cp -P build/lib/*.so* "$libs/"
+LD_LIBRARY_PATH="$libs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" build/bin/penumbra-bench --obj ../shared/scenes/bunny_stanford/bun_zipper.obj \
   --obj ../shared/scenes/dragon_100k/dragon.obj \
   --scene ../shared/bench/textbook_fig18_04.json --scene ../shared/bench/textbook_fig24_06.json \
   --scene ../shared/bench/room.json \

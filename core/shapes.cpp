@@ -44,16 +44,6 @@ void completeHit(const Sphere& s, const Ray& ray, float t, Hit& h) {
     h.material = s.material;
 }
 
-void completeHit(const Plane& pl, const Ray& ray, float t, Hit& h) {
-    const Vec3f p = ray.o + t * ray.d;
-    h.p = p - dot(p - pl.point, pl.normal) * pl.normal;
-    h.ng = h.ns = pl.normal;
-    const Frame f = Frame::fromNormal(pl.normal);
-    const Vec3f d = h.p - pl.point;
-    h.uv = {dot(d, f.s), dot(d, f.t)};
-    h.material = pl.material;
-}
-
 std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
     // Slab test in object space. The direction is transformed but not
     // normalised, so t is the same parameter in both spaces.

@@ -134,7 +134,16 @@ std::optional<PrimHit> intersect(const Disk& d, const Ray& r);
 /// parametrisation (see core/ray.h), not from o + t d. Scene::completeHit
 /// dispatches to these and sets t and ref.
 void completeHit(const Sphere& s, const Ray& r, float t, Hit& h);
-void completeHit(const Plane& p, const Ray& r, float t, Hit& h);
+/// (Inline: the ground plane's hits are most of some scenes' camera hits.)
+inline void completeHit(const Plane& pl, const Ray& ray, float t, Hit& h) {
+    const Vec3f p = ray.o + t * ray.d;
+    h.p = p - dot(p - pl.point, pl.normal) * pl.normal;
+    h.ng = h.ns = pl.normal;
+    const Frame f = Frame::fromNormal(pl.normal);
+    const Vec3f d = h.p - pl.point;
+    h.uv = {dot(d, f.s), dot(d, f.t)};
+    h.material = pl.material;
+}
 void completeHit(const Box& b, const Ray& r, float t, Hit& h);
 void completeHit(const Rectangle& q, float u, float v, Hit& h);
 void completeHit(const Disk& d, float u, float v, Hit& h);

@@ -91,7 +91,8 @@ public:
         intersectPrimLanes(rays, thin.data());
         for (size_t l = 0; l < out.size(); ++l) {
             if (thin[l])
-                scene_.completeHit(rays.ray(int(l)), thin[l]->ref, thin[l]->t, thin[l]->u, thin[l]->v, out[l].emplace());
+                scene_.completeHit(rays.ray(int(l)), thin[l]->ref, thin[l]->t, thin[l]->u, thin[l]->v,
+                                   out[l].emplace());
             else
                 out[l].reset();
         }

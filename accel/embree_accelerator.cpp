@@ -628,8 +628,10 @@ private:
             const float ax = (lo.x - p.org_x[l]) * ix, bx = (hi.x - p.org_x[l]) * ix;
             const float ay = (lo.y - p.org_y[l]) * iy, by = (hi.y - p.org_y[l]) * iy;
             const float az = (lo.z - p.org_z[l]) * iz, bz = (hi.z - p.org_z[l]) * iz;
-            const float t0 = std::max(std::max(p.tnear[l], std::min(ax, bx)), std::max(std::min(ay, by), std::min(az, bz)));
-            const float t1 = std::min(std::min(p.tfar[l], std::max(ax, bx)), std::min(std::max(ay, by), std::max(az, bz)));
+            const float t0 =
+                std::max(std::max(p.tnear[l], std::min(ax, bx)), std::max(std::min(ay, by), std::min(az, bz)));
+            const float t1 =
+                std::min(std::min(p.tfar[l], std::max(ax, bx)), std::min(std::max(ay, by), std::max(az, bz)));
             const bool misses = t0 > t1 + 1e-5f * std::fabs(t1);
             valid[l] = misses ? 0 : valid[l];
             any |= valid[l];

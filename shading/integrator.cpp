@@ -55,7 +55,8 @@ Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLengt
     return m.kd * textures_->lookup(m.textureIndex, hit.uv, footprint);
 }
 
-PENUMBRA_LANE_CLONES void Integrator::shade(const Hit& hit, const Ray& ray, float pathLength, ShadingPoint& sp) const {
+PENUMBRA_LANE_CLONES void Integrator::shade(const Hit& hit, const Ray& ray, float pathLength,
+                                            ShadingPoint& sp) const {
     sp.material = &scene_.material(hit.material);
     sp.p = hit.p;
     sp.wo = -ray.d;
@@ -251,8 +252,8 @@ uint32_t traceLightLanes(const Light& light, const ShadowLanes& at, const uint64
 
 }  // namespace
 
-PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth,
-                                RayCounts& counts) const {
+PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active,
+                                                     int depth, RayCounts& counts) const {
     const size_t nLights = lights_.size();
     if (nLights == 0) return;
     const size_t nLanes = lanes.size();
@@ -466,9 +467,10 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
     for (size_t q = 0; q < nLit; ++q) lanes[lit[q]].L += lanes[lit[q]].throughput * sum[lit[q]];
 }
 
-PENUMBRA_LANE_CLONES void Integrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
-                               std::span<const SampleKey> keys, std::span<Rgb> radiance,
-                               std::span<FirstHit> firstHits, RayCounts& counts) const {
+PENUMBRA_LANE_CLONES void Integrator::radianceBatch(std::span<const Ray> cameraRays,
+                                                    std::span<const std::optional<Hit>> hits,
+                                                    std::span<const SampleKey> keys, std::span<Rgb> radiance,
+                                                    std::span<FirstHit> firstHits, RayCounts& counts) const {
     const size_t n = std::min(cameraRays.size(), kMaxBatch);
     ScratchArray<PathLane, kMaxBatch> lanes;
     // The lanes' stacks of pending rays, only where a lane can go on (16 vectors

@@ -589,14 +589,15 @@ private:
 
     // The box every Embree geometry lies in (rtcGetSceneBounds), grown by a
     // margin far above the rounding of the hits and of the slab test, so that
-    // the packet pre-test (missesRootBounds) passes every ray Embree could hit.
+    // the packet pre-test (keepLanesInRootBounds) passes every ray Embree could hit.
     void setRootBounds() {
         RTCBounds b;
         rtcGetSceneBounds(rtcScene_.get(), &b);
         check("rtcGetSceneBounds");
         const Vec3f lo{b.lower_x, b.lower_y, b.lower_z}, hi{b.upper_x, b.upper_y, b.upper_z};
         if (!isFinite(lo) || !isFinite(hi) || !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return;
-        const float pad = 1e-4f * (maxComponent(hi - lo) + std::max(maxAbsComponent(lo), maxAbsComponent(hi))) + 1e-6f;
+        const float pad =
+            1e-4f * (maxComponent(hi - lo) + std::max(maxAbsComponent(lo), maxAbsComponent(hi))) + 1e-6f;
         rootLo_ = lo - Vec3f(pad);
         rootHi_ = hi + Vec3f(pad);
         hasRootBounds_ = true;

@@ -2,8 +2,6 @@
 // row 0 is the top row, the vertical field of view is given in degrees.
 #pragma once
 
-#include <span>
-
 #include "core/math.h"
 #include "core/ray.h"
 #include "core/ray_lanes.h"

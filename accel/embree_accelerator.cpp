@@ -604,13 +604,15 @@ private:
     }
 
     // Clears valid[l] for the lanes whose interval [tnear, tfar] does not meet
-    // the root bounds (a slab test over the lanes; no NaN: a zero direction
-    // component takes a huge finite reciprocal). Embree would find nothing for
-    // them, and a packet with no lane left skips its call: in small scenes the
-    // call's fixed cost is most of a packet's (the textbook scene's ground and
-    // sky). A packet whose rays all start inside the bounds (a closed room)
-    // cannot lose a lane and skips the slab test and its divisions. Returns
-    // whether any lane is left.
+    // the root bounds (a slab test over the lanes). A zero direction component
+    // takes a huge finite reciprocal; a NaN that a denormal one can still give
+    // (without flush-to-zero) only removes limits as std::min/max pass it on,
+    // so the test may keep too many lanes, never too few. Embree would find
+    // nothing for the cleared lanes, and a packet with no lane left skips its
+    // call: in small scenes the call's fixed cost is most of a packet's (the
+    // textbook scene's ground and sky). A packet whose rays all start inside
+    // the bounds (a closed room) cannot lose a lane and skips the slab test and
+    // its divisions. Returns whether any lane is left.
     template <int W, class PacketRay>
     [[gnu::always_inline]] bool keepLanesInRootBounds(const PacketRay& p, int* valid) const {
         const Vec3f lo = rootLo_, hi = rootHi_;

@@ -12,6 +12,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -498,73 +499,82 @@ TEST_P(EachAcceleratorWatertight, RaysAtTheDiagonalsEdgesAndCornersOfATriangleCu
 // those bounds (a cube's), rays arriving from outside, rays along the axes
 // (zero direction components) grazing or crossing its faces, and shadow rays
 // that stop just past the surface or just short of it answer in 16-wide
-// packets exactly as single rays do, near the origin and far from it.
+// packets exactly as single rays do, near the origin and far from it, with
+// flush-to-zero as in render threads and without it (axial rays whose other
+// components are denormal rather than zero).
 TEST_P(EachAcceleratorWatertight, PacketsAnswerAsSingleRaysAtTheEdgesOfTheSceneBounds) {
-    FlushDenormalsScope ftz;
-    for (const Vec3f offset : {Vec3f{0.f, 0.f, 0.f}, Vec3f{1e4f, -2e3f, 5e2f}}) {
-        Scene scene;
-        scene.meshes.push_back(makeTriangleCube(offset + Vec3f{-1.f, -1.f, -1.f}, offset + Vec3f{1.f, 1.f, 1.f}));
-        scene.finalize(quietLogger());
-        const auto acc = makeAccelerator(GetParam(), scene);
-        Rng rng(17);
-        std::vector<Ray> arriving, axial, pastShadow, shortShadow;
-        for (int corner = 0; corner < 8; ++corner) {
-            const Vec3f c{corner & 1 ? 1.f : -1.f, corner & 2 ? 1.f : -1.f, corner & 4 ? 1.f : -1.f};
-            for (int axis = 0; axis < 3; ++axis) {
-                // Points along the cube edge from this corner along `axis`, the corner itself included.
-                for (int k = 0; k < 4; ++k) {
-                    Vec3f local = c;
-                    local[axis] = c[axis] * (1.f - 0.5f * float(k));
-                    const Vec3f target = offset + local;
-                    auto entering = [&](const Vec3f& w) {
-                        for (int i = 0; i < 3; ++i)
-                            if (std::fabs(local[i]) == 1.f && !(w[i] * local[i] > 0.25f)) return false;
-                        return true;
-                    };
-                    const Ray r = rayFromOutside(target, entering, rng);
-                    arriving.push_back(r);
-                    const float d = length(target - r.o);
-                    pastShadow.push_back(Ray{r.o, r.d, 0.f, d * (1.f + 1e-4f)});
-                    shortShadow.push_back(Ray{r.o, r.d, 0.f, d * (1.f - 1e-3f)});
-                    for (int a = 0; a < 3; ++a) {
-                        Vec3f dir{};
-                        dir[a] = local[a] == 0.f ? 1.f : -local[a];
-                        const Vec3f o = target - 3.f * dir;
-                        axial.push_back(Ray{o, dir, 0.f, kInfinity});
-                        axial.push_back(Ray{o, dir, 0.f, 3.f * (1.f + 1e-4f)});  // stops just past the target
+    for (const bool flush : {true, false}) {
+        std::optional<FlushDenormalsScope> ftz;
+        if (flush) ftz.emplace();
+        const float zero = flush ? 0.f : 1e-40f;  // a denormal: the slab test's reciprocal overflows
+        for (const Vec3f offset : {Vec3f{0.f, 0.f, 0.f}, Vec3f{1e4f, -2e3f, 5e2f}}) {
+            Scene scene;
+            scene.meshes.push_back(makeTriangleCube(offset + Vec3f{-1.f, -1.f, -1.f}, offset + Vec3f{1.f, 1.f, 1.f}));
+            scene.finalize(quietLogger());
+            const auto acc = makeAccelerator(GetParam(), scene);
+            Rng rng(17);
+            std::vector<Ray> arriving, axial, pastShadow, shortShadow;
+            for (int corner = 0; corner < 8; ++corner) {
+                const Vec3f c{corner & 1 ? 1.f : -1.f, corner & 2 ? 1.f : -1.f, corner & 4 ? 1.f : -1.f};
+                for (int axis = 0; axis < 3; ++axis) {
+                    // Points along the cube edge from this corner along `axis`, the corner itself included.
+                    for (int k = 0; k < 4; ++k) {
+                        Vec3f local = c;
+                        local[axis] = c[axis] * (1.f - 0.5f * float(k));
+                        const Vec3f target = offset + local;
+                        auto entering = [&](const Vec3f& w) {
+                            for (int i = 0; i < 3; ++i)
+                                if (std::fabs(local[i]) == 1.f && !(w[i] * local[i] > 0.25f)) return false;
+                            return true;
+                        };
+                        const Ray r = rayFromOutside(target, entering, rng);
+                        arriving.push_back(r);
+                        const float d = length(target - r.o);
+                        pastShadow.push_back(Ray{r.o, r.d, 0.f, d * (1.f + 1e-4f)});
+                        shortShadow.push_back(Ray{r.o, r.d, 0.f, d * (1.f - 1e-3f)});
+                        for (int a = 0; a < 3; ++a) {
+                            Vec3f dir{zero, zero, zero};
+                            dir[a] = local[a] == 0.f ? 1.f : -local[a];
+                            const Vec3f o = target - 3.f * dir;
+                            axial.push_back(Ray{o, dir, 0.f, kInfinity});
+                            axial.push_back(Ray{o, dir, 0.f, 3.f * (1.f + 1e-4f)});  // stops just past the target
+                        }
                     }
                 }
             }
-        }
-        std::vector<Ray> all = arriving;
-        all.insert(all.end(), axial.begin(), axial.end());
-        std::vector<std::optional<PrimIntersection>> batch(all.size());
-        for (size_t b = 0; b < all.size(); b += 16) {
-            const size_t n = std::min<size_t>(16, all.size() - b);
-            acc->intersectPrimBatch(std::span(all).subspan(b, n), std::span(batch).subspan(b, n));
-        }
-        size_t arrivingHits = 0;
-        for (size_t i = 0; i < all.size(); ++i) {
-            const std::optional<PrimIntersection> single = acc->intersectPrim(all[i]);
-            ASSERT_EQ(single.has_value(), batch[i].has_value()) << "ray " << i << " offset " << offset.x;
-            if (single) {
-                EXPECT_EQ(single->ref, batch[i]->ref);
-                EXPECT_EQ(single->t, batch[i]->t);
+            std::vector<Ray> all = arriving;
+            all.insert(all.end(), axial.begin(), axial.end());
+            std::vector<std::optional<PrimIntersection>> batch(all.size());
+            for (size_t b = 0; b < all.size(); b += 16) {
+                const size_t n = std::min<size_t>(16, all.size() - b);
+                acc->intersectPrimBatch(std::span(all).subspan(b, n), std::span(batch).subspan(b, n));
             }
-            if (i < arriving.size()) arrivingHits += single ? 1 : 0;
-        }
-        EXPECT_EQ(arrivingHits, arriving.size());
+            size_t arrivingHits = 0;
+            for (size_t i = 0; i < all.size(); ++i) {
+                const std::optional<PrimIntersection> single = acc->intersectPrim(all[i]);
+                ASSERT_EQ(single.has_value(), batch[i].has_value())
+                    << "ray " << i << " offset " << offset.x << " flush " << flush;
+                if (single) {
+                    EXPECT_EQ(single->ref, batch[i]->ref);
+                    EXPECT_EQ(single->t, batch[i]->t);
+                }
+                if (i < arriving.size()) arrivingHits += single ? 1 : 0;
+            }
+            EXPECT_EQ(arrivingHits, arriving.size());
 
-        std::vector<Ray> shadow = pastShadow;
-        shadow.insert(shadow.end(), shortShadow.begin(), shortShadow.end());
-        std::vector<uint8_t> blocked(shadow.size());
-        for (size_t b = 0; b < shadow.size(); b += 16) {
-            const size_t n = std::min<size_t>(16, shadow.size() - b);
-            acc->occludedBatch(std::span(shadow).subspan(b, n), std::span(blocked).subspan(b, n));
-        }
-        for (size_t i = 0; i < shadow.size(); ++i) {
-            EXPECT_EQ(blocked[i] != 0, acc->occluded(shadow[i])) << "shadow ray " << i << " offset " << offset.x;
-            EXPECT_EQ(blocked[i] != 0, i < pastShadow.size()) << "shadow ray " << i << " offset " << offset.x;
+            std::vector<Ray> shadow = pastShadow;
+            shadow.insert(shadow.end(), shortShadow.begin(), shortShadow.end());
+            std::vector<uint8_t> blocked(shadow.size());
+            for (size_t b = 0; b < shadow.size(); b += 16) {
+                const size_t n = std::min<size_t>(16, shadow.size() - b);
+                acc->occludedBatch(std::span(shadow).subspan(b, n), std::span(blocked).subspan(b, n));
+            }
+            for (size_t i = 0; i < shadow.size(); ++i) {
+                const std::string where = "shadow ray " + std::to_string(i) + " offset " + std::to_string(offset.x) +
+                                          (flush ? " (flush-to-zero)" : "");
+                EXPECT_EQ(blocked[i] != 0, acc->occluded(shadow[i])) << where;
+                EXPECT_EQ(blocked[i] != 0, i < pastShadow.size()) << where;
+            }
         }
     }
 }

@@ -73,12 +73,7 @@ public:
         for (size_t b = 0; b < rays.size(); b += kChunk) {
             const size_t n = std::min(kChunk, rays.size() - b);
             intersectPrimBatch(rays.subspan(b, n), std::span(thin.data(), n));
-            for (size_t i = 0; i < n; ++i) {
-                if (thin[i])
-                    scene_.completeHit(rays[b + i], thin[i]->ref, thin[i]->t, thin[i]->u, thin[i]->v, out[b + i].emplace());
-                else
-                    out[b + i].reset();
-            }
+            for (size_t i = 0; i < n; ++i) completeThin(rays[b + i], thin[i], out[b + i]);
         }
     }
 
@@ -89,13 +84,7 @@ public:
     void intersectLanes(const RayLanes& rays, std::span<std::optional<Hit>> out) const {
         EmptyOptionals<PrimIntersection, RayLanes::kWidth> thin;
         intersectPrimLanes(rays, thin.data());
-        for (size_t l = 0; l < out.size(); ++l) {
-            if (thin[l])
-                scene_.completeHit(rays.ray(int(l)), thin[l]->ref, thin[l]->t, thin[l]->u, thin[l]->v,
-                                   out[l].emplace());
-            else
-                out[l].reset();
-        }
+        for (size_t l = 0; l < out.size(); ++l) completeThin(rays.ray(int(l)), thin[l], out[l]);
     }
     /// intersectPrim() for each active lane's ray, nullopt for idle lanes (all 16 written).
     virtual void intersectPrimLanes(const RayLanes& rays, std::optional<PrimIntersection>* out) const {
@@ -115,6 +104,13 @@ public:
 
 protected:
     explicit Accelerator(const Scene& scene) : scene_(scene) {}
+    /// The batch forms' one rule: a thin hit completed in place (Scene::completeHit), a miss reset.
+    void completeThin(const Ray& ray, const std::optional<PrimIntersection>& thin, std::optional<Hit>& out) const {
+        if (thin)
+            scene_.completeHit(ray, thin->ref, thin->t, thin->u, thin->v, out.emplace());
+        else
+            out.reset();
+    }
     bool acceptRay(const Ray& r) const {
         if (isValidRay(r)) return true;
         countInvalidRays(1);

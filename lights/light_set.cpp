@@ -10,7 +10,7 @@
 
 namespace penumbra {
 
-LightSet::LightSet(const Scene& scene, RgbImage environmentImage) {
+LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene) {
     const auto emissive = [&](uint32_t mat) { return scene.materials[mat].isEmissive(); };
     rectangleLight_.assign(scene.rectangles.size(), -1);
     diskLight_.assign(scene.disks.size(), -1);
@@ -56,6 +56,21 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) {
         }
     }
     areaLights_ = lights_.size();
+    const auto addEmitter = [&](ShapeKind kind, uint32_t object, uint32_t prim, int32_t light) {
+        emitters_.push_back({PrimRef{kind, object, prim, 0}, uint32_t(light)});
+    };
+    for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
+        if (rectangleLight_[i] >= 0) addEmitter(ShapeKind::Rectangle, i, 0, rectangleLight_[i]);
+    for (uint32_t i = 0; i < scene.disks.size(); ++i)
+        if (diskLight_[i] >= 0) addEmitter(ShapeKind::Disk, i, 0, diskLight_[i]);
+    for (uint32_t i = 0; i < scene.spheres.size(); ++i)
+        if (sphereLight_[i] >= 0) addEmitter(ShapeKind::Sphere, i, 0, sphereLight_[i]);
+    // A mesh light is every triangle of its material, as lightOf() counts them
+    // (degenerate ones too: no ray meets them).
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m)
+        for (const auto& [mat, light] : meshLights_[m])
+            for (uint32_t t = 0; t < scene.meshes[m].triangleCount(); ++t)
+                if (scene.meshes[m].materialOf(t) == mat) addEmitter(ShapeKind::Mesh, m, t, int32_t(light));
     // Bounding spheres of the area lights, in the order they were added.
     const auto addBounds = [&](const Bounds3f& b) {
         bounds_.push_back({b.center(), 0.25f * lengthSquared(b.diagonal())});
@@ -122,6 +137,30 @@ LightSet::Pick LightSet::pickByPower(float u) const {
     i = std::min(i, powerCdf_.size() - 1);
     const float lo = i ? powerCdf_[i - 1] : 0.f;
     return {i, powerCdf_[i] - lo};
+}
+
+std::optional<LightSet::EmitterHit> LightSet::firstEmitterHit(const Ray& ray) const {
+    Ray r = ray;  // shrinks to the closest hit so far, as in the naive accelerator
+    std::optional<EmitterHit> best;
+    for (const Emitter& e : emitters_) {
+        std::optional<PrimHit> h;
+        switch (e.ref.kind) {
+            case ShapeKind::Rectangle: h = intersect(scene_.rectangles[e.ref.object], r); break;
+            case ShapeKind::Disk: h = intersect(scene_.disks[e.ref.object], r); break;
+            case ShapeKind::Sphere: h = intersect(scene_.spheres[e.ref.object], r); break;
+            case ShapeKind::Mesh: {
+                Vec3f p0, p1, p2;
+                scene_.meshes[e.ref.object].vertices(e.ref.prim, p0, p1, p2);
+                h = intersectTriangle(p0, p1, p2, r);
+                break;
+            }
+            default: break;
+        }
+        if (!h) continue;
+        r.tfar = h->t;
+        best = EmitterHit{e.light, e.ref, *h};
+    }
+    return best;
 }
 
 std::optional<size_t> LightSet::lightOf(const Hit& hit) const {

@@ -43,6 +43,23 @@ public:
     /// back of a one-sided emitter.
     std::optional<size_t> lightOf(const Hit& hit) const;
 
+    /// Where a ray first meets the surface of an area light: the light's
+    /// index and the primitive's thin hit (complete it with
+    /// Scene::completeHit). Either side counts, as for a closest hit.
+    struct EmitterHit {
+        size_t light;
+        PrimRef ref;
+        PrimHit hit;
+    };
+    /// The closest area-light primitive along ray, by the same shape tests as
+    /// the naive accelerator; nullopt where the ray meets none (what lies in
+    /// front of it is not looked at). Only where emittersTestable().
+    std::optional<EmitterHit> firstEmitterHit(const Ray& ray) const;
+    /// Whether the area lights have few enough primitives (kMaxTestedEmitters)
+    /// for firstEmitterHit to cost less than a closest-hit query.
+    bool emittersTestable() const { return emitters_.size() <= kMaxTestedEmitters; }
+    static constexpr size_t kMaxTestedEmitters = 16;
+
     /// Whether area light i may subtend more than omega at p: whether its
     /// bounding sphere does (always inside it; never for delta lights).
     /// Cheap (a multiply and a compare): for deciding where BRDF samples pay.
@@ -59,7 +76,14 @@ public:
     const EnvironmentLight* environment() const { return environment_; }
 
 private:
+    const Scene& scene_;
     std::vector<std::unique_ptr<Light>> lights_;
+    // Every area-light primitive with its light index, in light order.
+    struct Emitter {
+        PrimRef ref;
+        uint32_t light;
+    };
+    std::vector<Emitter> emitters_;
     // Light index per rectangle, disk and sphere (-1: not emissive), and per
     // mesh its (material, light index) pairs.
     std::vector<int32_t> rectangleLight_, diskLight_, sphereLight_;

@@ -139,56 +139,104 @@ private:
 };
 
 // BRDF-sampled rays of a batch's shading points, traced 16 at a time as
-// packets (closest hit). A ray that reaches the emitting side of a light adds
-// f cos / pdf * Le times its power-heuristic weight against the light
-// samples of that light; the sums are kept apart from the shadow queue's and
-// filled in queue order, so determinism holds as there. These rays only
-// estimate direct light: the path does not continue along them, so nothing
-// the integrator adds for camera and mirror rays is counted twice.
+// packets. A ray that reaches the emitting side of a light adds f cos / pdf *
+// Le times its power-heuristic weight against the light samples of that
+// light (an escaped ray: the environment's radiance); the sums are kept apart
+// from the shadow queue's and filled in queue order, so determinism holds as
+// there. These rays only estimate direct light: the path does not continue
+// along them, so nothing the integrator adds for camera and mirror rays is
+// counted twice.
+//
+// Where the lights have few primitives (LightSet::emittersTestable), a ray is
+// first tested against them alone: one that meets no light (most of them,
+// under small lights) adds nothing and is not traced at all, and one that
+// meets a light needs only an occlusion query up to it, not a closest hit
+// and its completion. Else every ray takes a closest-hit query.
 class BrdfQueue {
 public:
     BrdfQueue(const Accelerator& accel, const Scene& scene, const LightSet& lights, bool powerSelection,
               RayCounts& counts, Rgb* sums, float nLight, float nBrdf)
         : accel_(accel), scene_(scene), lights_(lights), power_(powerSelection), counts_(counts), sums_(sums),
-          nLight_(nLight), nBrdf_(nBrdf) {}
+          nLight_(nLight), nBrdf_(nBrdf), emittersFirst_(lights.emittersTestable()) {}
 
     void add(size_t lane, const ShadingPoint& sp, const PhongSample& s) {
         if (dot(s.wi, sp.ng) <= 0.f) return;  // below the geometric surface
-        rays_[pending_] = spawnRay(sp.p, sp.ng, s.wi);
-        origins_[pending_] = sp.p;
-        weights_[pending_] = s.fCos * (1.f / s.pdf);
-        pdfs_[pending_] = s.pdf;
+        const Ray ray = spawnRay(sp.p, sp.ng, s.wi);
+        const Rgb weight = s.fCos * (1.f / s.pdf);
+        if (!emittersFirst_) {
+            rays_[pending_] = ray;
+            origins_[pending_] = sp.p;
+            weights_[pending_] = weight;
+            pdfs_[pending_] = s.pdf;
+            lanes_[pending_] = static_cast<uint8_t>(lane);
+            if (++pending_ == kPacket) flush();
+            return;
+        }
+        Ray shadow = ray;
+        Rgb added;
+        if (const std::optional<LightSet::EmitterHit> e = lights_.firstEmitterHit(ray)) {
+            const Hit hit = scene_.completeHit(ray, e->ref, e->hit.t, e->hit.u, e->hit.v);
+            const std::optional<Rgb> L = emitted(sp.p, ray.d, hit, e->light, weight, s.pdf);
+            if (!L) return;
+            added = *L;
+            // Up to the light, stopping short of it as a shadow ray to a point on it does.
+            shadow.tfar = std::max(0.f, e->hit.t - rayOffsetScale(hit.p));
+        } else {
+            if (!lights_.environment()) return;  // nothing to reach
+            added = fromEnvironment(ray.d, weight, s.pdf);
+        }
+        rays_[pending_] = shadow;
+        weights_[pending_] = added;
         lanes_[pending_] = static_cast<uint8_t>(lane);
         if (++pending_ == kPacket) flush();
     }
 
     void flush() {
         if (pending_ == 0) return;
-        accel_.intersectBatch(std::span<const Ray>(rays_.data(), pending_), std::span<std::optional<Hit>>(hits_.data(), pending_));
         counts_.brdf += pending_;
-        const EnvironmentLight* env = lights_.environment();
+        if (emittersFirst_) {
+            accel_.occludedBatch(std::span<const Ray>(rays_.data(), pending_), std::span<uint8_t>(blocked_, pending_));
+            for (uint32_t i = 0; i < pending_; ++i)
+                if (!blocked_[i]) sums_[lanes_[i]] += weights_[i];
+            pending_ = 0;
+            return;
+        }
+        accel_.intersectBatch(std::span<const Ray>(rays_.data(), pending_), std::span<std::optional<Hit>>(hits_.data(), pending_));
         for (uint32_t i = 0; i < pending_; ++i) {
             if (!hits_[i]) {
                 // Escaped: it reaches the environment light (the set's last light), if any.
-                if (!env) continue;
-                float lightPdf = env->pdf(rays_[i].d);
-                if (power_) lightPdf *= lights_.powerProbability(lights_.size() - 1);
-                sums_[lanes_[i]] += weights_[i] * env->radiance(rays_[i].d) * powerHeuristic(nBrdf_, pdfs_[i], nLight_, lightPdf);
+                if (lights_.environment()) sums_[lanes_[i]] += fromEnvironment(rays_[i].d, weights_[i], pdfs_[i]);
                 continue;
             }
-            const Hit& hit = *hits_[i];
-            const Material& m = scene_.material(hit.material);
-            if (!m.isEmissive() || !(dot(rays_[i].d, hit.ng) < 0.f || m.twoSidedEmission)) continue;
-            const std::optional<size_t> light = lights_.lightOf(hit);
-            if (!light) continue;  // emissive, but no light: light samples never see it either
-            float lightPdf = lights_[*light].pdf(origins_[i], hit);
-            if (power_) lightPdf *= lights_.powerProbability(*light);
-            sums_[lanes_[i]] += weights_[i] * Rgb(m.ke) * powerHeuristic(nBrdf_, pdfs_[i], nLight_, lightPdf);
+            const std::optional<size_t> light = lights_.lightOf(*hits_[i]);
+            if (!light) continue;  // no light (emissive or not): light samples never see it either
+            if (auto L = emitted(origins_[i], rays_[i].d, *hits_[i], *light, weights_[i], pdfs_[i]))
+                sums_[lanes_[i]] += *L;
         }
         pending_ = 0;
     }
 
 private:
+    // What a ray from p in direction d adds where it meets light `light` at
+    // hit (weight f cos / pdf, brdfPdf its BRDF pdf); nullopt on the side
+    // that does not emit.
+    std::optional<Rgb> emitted(const Vec3f& p, const Vec3f& d, const Hit& hit, size_t light, const Rgb& weight,
+                               float brdfPdf) const {
+        const Material& m = scene_.material(hit.material);
+        if (!m.isEmissive() || !(dot(d, hit.ng) < 0.f || m.twoSidedEmission)) return std::nullopt;
+        float lightPdf = lights_[light].pdf(p, hit);
+        if (power_) lightPdf *= lights_.powerProbability(light);
+        return weight * Rgb(m.ke) * powerHeuristic(nBrdf_, brdfPdf, nLight_, lightPdf);
+    }
+
+    // What an escaped ray in direction d adds (the environment is the set's last light).
+    Rgb fromEnvironment(const Vec3f& d, const Rgb& weight, float brdfPdf) const {
+        const EnvironmentLight* env = lights_.environment();
+        float lightPdf = env->pdf(d);
+        if (power_) lightPdf *= lights_.powerProbability(lights_.size() - 1);
+        return weight * env->radiance(d) * powerHeuristic(nBrdf_, brdfPdf, nLight_, lightPdf);
+    }
+
     static constexpr uint32_t kPacket = 16;
     const Accelerator& accel_;
     const Scene& scene_;
@@ -197,12 +245,14 @@ private:
     RayCounts& counts_;
     Rgb* sums_;
     float nLight_, nBrdf_;
+    bool emittersFirst_;
     ScratchArray<Ray, kPacket> rays_;
     EmptyOptionals<Hit, kPacket> hits_;
     ScratchArray<Vec3f, kPacket> origins_;
-    ScratchArray<Rgb, kPacket> weights_;
+    ScratchArray<Rgb, kPacket> weights_;  // emitters first: what an unoccluded ray adds; else f cos / pdf
     float pdfs_[kPacket];
     uint8_t lanes_[kPacket];
+    uint8_t blocked_[kPacket];
     uint32_t pending_ = 0;
 };
 

@@ -59,15 +59,24 @@ Stats estimate(const PreparedScene& ps, const Ray& ray, int lightSamples, Direct
     return {mean, std::sqrt(std::max(0.0, s2 / runs - mean * mean))};
 }
 
-// A closed cube [-h, h]^3 of 12 triangles facing inwards.
-TriangleMesh insideOutCube(float h, uint32_t material) {
+// A closed cube [-h, h]^3 facing inwards, each face split into split x split
+// quads of two triangles (split 1: 12 triangles).
+TriangleMesh insideOutCube(float h, uint32_t material, int split = 1) {
     TriangleMesh m;
-    for (int i = 0; i < 8; ++i) m.positions.push_back(Vec3f{i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h});
-    // Faces as quads (a, b, c, d) counter-clockwise seen from inside.
-    const uint32_t quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-    for (const auto& q : quads) {
-        for (uint32_t v : {q[0], q[1], q[2], q[0], q[2], q[3]}) m.indices.push_back(v);
-    }
+    // Faces as (corner, edge a, edge b), a x b pointing inwards.
+    const Vec3f faces[6][3] = {{{-h, -h, -h}, {2 * h, 0, 0}, {0, 2 * h, 0}},  {{-h, -h, h}, {0, 2 * h, 0}, {2 * h, 0, 0}},
+                               {{-h, -h, -h}, {0, 0, 2 * h}, {2 * h, 0, 0}},  {{-h, h, -h}, {2 * h, 0, 0}, {0, 0, 2 * h}},
+                               {{-h, -h, -h}, {0, 2 * h, 0}, {0, 0, 2 * h}},  {{h, -h, -h}, {0, 0, 2 * h}, {0, 2 * h, 0}}};
+    for (const auto& f : faces)
+        for (int i = 0; i < split; ++i)
+            for (int j = 0; j < split; ++j) {
+                const auto corner = [&](int di, int dj) {
+                    return f[0] + f[1] * (float(i + di) / float(split)) + f[2] * (float(j + dj) / float(split));
+                };
+                const uint32_t base = uint32_t(m.positions.size());
+                for (Vec3f p : {corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)}) m.positions.push_back(p);
+                for (uint32_t v : {0u, 1u, 2u, 0u, 2u, 3u}) m.indices.push_back(base + v);
+            }
     m.material = material;
     return m;
 }
@@ -110,19 +119,57 @@ TEST_P(DirectLight, LambertianPointFacingASphereLightMatchesTheClosedForm) {
 TEST_P(DirectLight, BallInsideAClosedEmissiveMeshReflectsKdTimesLe) {
     // Every direction above the ball's tangent plane reaches the emitting
     // cube, so L = kd Le exactly; area sampling was off by +-3% at 1024 samples.
-    Scene s;
-    Material ball;
-    ball.kd = Rgb(0.6f);
-    const uint32_t bm = addMaterial(s, ball);
-    const uint32_t lm = addMaterial(s, emitter(2.f));
-    s.spheres.push_back(Sphere{Vec3f{0.3f, -0.2f, 0.1f}, 1.f, bm});
-    s.meshes.push_back(insideOutCube(3.f, lm));
-    PreparedScene ps(std::move(s), prep(), quietLogger());
-    ASSERT_EQ(ps.lights().size(), 1u);
-    for (Vec3f dir : {Vec3f{0, -1, 0}, normalize(Vec3f{1, -1, 0.5f}), normalize(Vec3f{-0.2f, 0.3f, -1.f})}) {
-        const Ray ray{Vec3f{0.3f, -0.2f, 0.1f} - 2.5f * dir, dir, 0.f, kInfinity};
-        const Rgb L = radianceAlong(ps, ray, 1024, DirectLightSampling::Mis);
-        EXPECT_NEAR(L.g, 1.2f, 0.003f * 1.2f) << "direction " << dir.x << "," << dir.y << "," << dir.z;
+    // 12 triangles: BRDF samples test the light's triangles first (at most
+    // LightSet::kMaxTestedEmitters); 48: they take closest-hit queries.
+    for (int split : {1, 2}) {
+        Scene s;
+        Material ball;
+        ball.kd = Rgb(0.6f);
+        const uint32_t bm = addMaterial(s, ball);
+        const uint32_t lm = addMaterial(s, emitter(2.f));
+        s.spheres.push_back(Sphere{Vec3f{0.3f, -0.2f, 0.1f}, 1.f, bm});
+        s.meshes.push_back(insideOutCube(3.f, lm, split));
+        PreparedScene ps(std::move(s), prep(), quietLogger());
+        ASSERT_EQ(ps.lights().size(), 1u);
+        ASSERT_EQ(ps.lights().emittersTestable(), split == 1);
+        for (Vec3f dir : {Vec3f{0, -1, 0}, normalize(Vec3f{1, -1, 0.5f}), normalize(Vec3f{-0.2f, 0.3f, -1.f})}) {
+            const Ray ray{Vec3f{0.3f, -0.2f, 0.1f} - 2.5f * dir, dir, 0.f, kInfinity};
+            const Rgb L = radianceAlong(ps, ray, 1024, DirectLightSampling::Mis);
+            EXPECT_NEAR(L.g, 1.2f, 0.003f * 1.2f)
+                << "split " << split << ", direction " << dir.x << "," << dir.y << "," << dir.z;
+        }
+    }
+}
+
+TEST_P(DirectLight, BrdfSamplesStopAtWhatLiesInFrontOfTheLight) {
+    // A sharp glossy floor under a large light, seen near the mirror
+    // direction (most of its light comes from BRDF samples). A box just under
+    // the light that covers it as seen from the point leaves no light at all;
+    // one that covers half of it leaves what light samples alone estimate.
+    for (float cover : {1.f, 0.5f}) {
+        Scene s;
+        Material g;
+        g.kd = Rgb(0.05f);
+        g.ks = Rgb(0.8f);
+        g.exponent = 300.f;
+        const uint32_t gm = addMaterial(s, g);
+        const uint32_t lm = addMaterial(s, emitter(4.f));
+        const uint32_t bm = addMaterial(s, Material{});
+        s.planes.push_back(Plane{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, true, gm});
+        s.rectangles.push_back(Rectangle{Vec3f{-2, 2, -2}, Vec3f{4, 0, 0}, Vec3f{0, 0, 4}, lm});  // faces -y
+        s.boxes.push_back(makeBox(Vec3f{-3, 1.8f, -3}, Vec3f{-3 + 6 * cover, 1.9f, 3}, Transform(), bm));
+        PreparedScene ps(std::move(s), prep(), quietLogger());
+        const Ray ray{Vec3f{-1.f, 1.f, 0.f}, normalize(Vec3f{1.f, -1.f, 0.f}), 0.f, kInfinity};
+        if (cover == 1.f) {
+            for (uint32_t i = 0; i < 8; ++i)
+                EXPECT_EQ(radianceAlong(ps, ray, 16, DirectLightSampling::Mis, i).g, 0.f) << "camera sample " << i;
+            continue;
+        }
+        const Stats mis = estimate(ps, ray, 16, DirectLightSampling::Mis, 128);
+        const Stats light = estimate(ps, ray, 256, DirectLightSampling::Light, 64);
+        ASSERT_GT(mis.mean, 0.05);
+        EXPECT_NEAR(mis.mean, light.mean, 4.0 * std::hypot(mis.sd / std::sqrt(128.0), light.sd / 8.0))
+            << "mis " << mis.mean << " +- " << mis.sd << ", light " << light.mean << " +- " << light.sd;
     }
 }
 

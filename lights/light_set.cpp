@@ -1,6 +1,7 @@
 #include "lights/light_set.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "core/error.h"
@@ -56,21 +57,6 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
         }
     }
     areaLights_ = lights_.size();
-    const auto addEmitter = [&](ShapeKind kind, uint32_t object, uint32_t prim, int32_t light) {
-        emitters_.push_back({PrimRef{kind, object, prim, 0}, uint32_t(light)});
-    };
-    for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
-        if (rectangleLight_[i] >= 0) addEmitter(ShapeKind::Rectangle, i, 0, rectangleLight_[i]);
-    for (uint32_t i = 0; i < scene.disks.size(); ++i)
-        if (diskLight_[i] >= 0) addEmitter(ShapeKind::Disk, i, 0, diskLight_[i]);
-    for (uint32_t i = 0; i < scene.spheres.size(); ++i)
-        if (sphereLight_[i] >= 0) addEmitter(ShapeKind::Sphere, i, 0, sphereLight_[i]);
-    // A mesh light is every triangle of its material, as lightOf() counts them
-    // (degenerate ones too: no ray meets them).
-    for (uint32_t m = 0; m < scene.meshes.size(); ++m)
-        for (const auto& [mat, light] : meshLights_[m])
-            for (uint32_t t = 0; t < scene.meshes[m].triangleCount(); ++t)
-                if (scene.meshes[m].materialOf(t) == mat) addEmitter(ShapeKind::Mesh, m, t, int32_t(light));
     // Bounding spheres of the area lights, in the order they were added.
     const auto addBounds = [&](const Bounds3f& b) {
         bounds_.push_back({b.center(), 0.25f * lengthSquared(b.diagonal())});
@@ -96,6 +82,24 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
             addBounds(b);
             (void)light;
         }
+
+    // The area lights' primitives, for firstEmitterHit.
+    const auto addEmitter = [&](ShapeKind kind, uint32_t object, uint32_t prim, int32_t light) {
+        const BoundingSphere& b = bounds_[size_t(light)];
+        emitters_.push_back({PrimRef{kind, object, prim, 0}, uint32_t(light), b.center, std::sqrt(b.radius2)});
+    };
+    for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
+        if (rectangleLight_[i] >= 0) addEmitter(ShapeKind::Rectangle, i, 0, rectangleLight_[i]);
+    for (uint32_t i = 0; i < scene.disks.size(); ++i)
+        if (diskLight_[i] >= 0) addEmitter(ShapeKind::Disk, i, 0, diskLight_[i]);
+    for (uint32_t i = 0; i < scene.spheres.size(); ++i)
+        if (sphereLight_[i] >= 0) addEmitter(ShapeKind::Sphere, i, 0, sphereLight_[i]);
+    // A mesh light is every triangle of its material, as lightOf() counts them
+    // (degenerate ones too: no ray meets them).
+    for (uint32_t m = 0; m < scene.meshes.size(); ++m)
+        for (const auto& [mat, light] : meshLights_[m])
+            for (uint32_t t = 0; t < scene.meshes[m].triangleCount(); ++t)
+                if (scene.meshes[m].materialOf(t) == mat) addEmitter(ShapeKind::Mesh, m, t, int32_t(light));
 
     const Bounds3f b = scene.bounds();
     const float radius = b.empty() ? 1.f : 0.5f * length(b.diagonal());
@@ -142,7 +146,18 @@ LightSet::Pick LightSet::pickByPower(float u) const {
 std::optional<LightSet::EmitterHit> LightSet::firstEmitterHit(const Ray& ray) const {
     Ray r = ray;  // shrinks to the closest hit so far, as in the naive accelerator
     std::optional<EmitterHit> best;
+    const float dd = dot(ray.d, ray.d);
     for (const Emitter& e : emitters_) {
+        // The bounding sphere first (most rays pass every light by): skip
+        // where the ray's line passes farther from its centre than its radius,
+        // or where it lies wholly behind the origin, each by a margin of 1e-6
+        // of the centre's distance, above the rounding of these few
+        // operations (so no ray that meets the light is skipped).
+        const Vec3f oc = e.center - ray.o;
+        const float along = dot(oc, ray.d) / dd;
+        const Vec3f off = oc - along * ray.d;
+        const float reach = e.radius + 1e-6f * (std::fabs(oc.x) + std::fabs(oc.y) + std::fabs(oc.z));
+        if (dot(off, off) > reach * reach || along * std::sqrt(dd) < -reach) continue;
         std::optional<PrimHit> h;
         switch (e.ref.kind) {
             case ShapeKind::Rectangle: h = intersect(scene_.rectangles[e.ref.object], r); break;

@@ -78,10 +78,14 @@ public:
 private:
     const Scene& scene_;
     std::vector<std::unique_ptr<Light>> lights_;
-    // Every area-light primitive with its light index, in light order.
+    // Every area-light primitive with its light index, in light order, and
+    // its light's bounding sphere (a ray that passes it by meets none of the
+    // light's primitives).
     struct Emitter {
         PrimRef ref;
         uint32_t light;
+        Vec3f center;
+        float radius;
     };
     std::vector<Emitter> emitters_;
     // Light index per rectangle, disk and sphere (-1: not emissive), and per

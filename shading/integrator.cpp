@@ -159,14 +159,18 @@ public:
         : accel_(accel), scene_(scene), lights_(lights), power_(powerSelection), counts_(counts), sums_(sums),
           nLight_(nLight), nBrdf_(nBrdf), emittersFirst_(lights.emittersTestable()) {}
 
-    void add(size_t lane, const ShadingPoint& sp, const PhongSample& s) {
-        if (dot(s.wi, sp.ng) <= 0.f) return;  // below the geometric surface
-        const Ray ray = spawnRay(sp.p, sp.ng, s.wi);
-        const Rgb weight = s.fCos * (1.f / s.pdf);
+    /// The sample in direction wi (from sampler.direction) at sp: f cos and
+    /// the pdf are only evaluated where the ray may reach a light (a sample
+    /// with a zero pdf adds nothing, as samplePhong drops it).
+    void add(size_t lane, const ShadingPoint& sp, const PhongSampler& sampler, const Vec3f& wi) {
+        if (dot(wi, sp.ng) <= 0.f) return;  // below the geometric surface
+        const Ray ray = spawnRay(sp.p, sp.ng, wi);
         if (!emittersFirst_) {
+            const PhongSample s = sampler.evaluate(wi);
+            if (!(s.pdf > 0.f)) return;
             rays_[pending_] = ray;
             origins_[pending_] = sp.p;
-            weights_[pending_] = weight;
+            weights_[pending_] = s.fCos * (1.f / s.pdf);
             pdfs_[pending_] = s.pdf;
             lanes_[pending_] = static_cast<uint8_t>(lane);
             if (++pending_ == kPacket) flush();
@@ -174,7 +178,12 @@ public:
         }
         Ray shadow = ray;
         Rgb added;
-        if (const std::optional<LightSet::EmitterHit> e = lights_.firstEmitterHit(ray)) {
+        const std::optional<LightSet::EmitterHit> e = lights_.firstEmitterHit(ray);
+        if (!e && !lights_.environment()) return;  // nothing to reach
+        const PhongSample s = sampler.evaluate(wi);
+        if (!(s.pdf > 0.f)) return;
+        const Rgb weight = s.fCos * (1.f / s.pdf);
+        if (e) {
             const Hit hit = scene_.completeHit(ray, e->ref, e->hit.t, e->hit.u, e->hit.v);
             const std::optional<Rgb> L = emitted(sp.p, ray.d, hit, e->light, weight, s.pdf);
             if (!L) return;
@@ -182,7 +191,6 @@ public:
             // Up to the light, stopping short of it as a shadow ray to a point on it does.
             shadow.tfar = std::max(0.f, e->hit.t - rayOffsetScale(hit.p));
         } else {
-            if (!lights_.environment()) return;  // nothing to reach
             added = fromEnvironment(ray.d, weight, s.pdf);
         }
         rays_[pending_] = shadow;
@@ -508,7 +516,7 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
                 ScratchArray<Vec2f, kSampleChunk> u;
                 seq.samplePoints(lane.key.index, nBrdf, k0, m, u.data());
                 for (uint32_t k = 0; k < m; ++k)
-                    if (auto s = sampler.sample(u[k])) brdfQueue.add(lit[q], sp, *s);
+                    if (const std::optional<Vec3f> wi = sampler.direction(u[k])) brdfQueue.add(lit[q], sp, sampler, *wi);
             }
         }
         brdfQueue.flush();

@@ -53,12 +53,12 @@ PhongSample evaluateWith(const Material& m, const Rgb& kd, const Vec3f& n, const
 
 Vec3f mirrorOf(const Vec3f& n, const Vec3f& wo) { return normalize(2.f * dot(n, wo) * n - wo); }
 
-// samplePhong's steps once the diffuse lobe's probability pd is known; the
-// frames of the two lobes (about n, about the mirror direction of wo) come
-// from diffuseFrame() and lobeFrame(), asked only for the lobe u picks.
+// samplePhong's direction once the diffuse lobe's probability pd is known;
+// the frames of the two lobes (about n, about the mirror direction of wo)
+// come from diffuseFrame() and lobeFrame(), asked only for the lobe u picks.
 template <class DiffuseFrame, class LobeFrame>
-std::optional<PhongSample> sampleLobes(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u,
-                                       float pd, const DiffuseFrame& diffuseFrame, const LobeFrame& lobeFrame) {
+std::optional<Vec3f> sampleLobeDirection(const Material& m, const Vec3f& n, Vec2f u, float pd,
+                                         const DiffuseFrame& diffuseFrame, const LobeFrame& lobeFrame) {
     if (pd <= 0.f && Rgb(m.ks).isBlack()) return std::nullopt;
     Vec3f wi;
     if (u.x < pd) {
@@ -70,7 +70,14 @@ std::optional<PhongSample> sampleLobes(const Material& m, const Rgb& kd, const V
     }
     wi = normalize(wi);
     if (!(dot(n, wi) > 0.f)) return std::nullopt;
-    const PhongSample s = evaluateWith(m, kd, n, wo, wi, pd);
+    return wi;
+}
+
+// The sample of that direction: f cos and pdf, none where the pdf is zero.
+std::optional<PhongSample> evaluated(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo,
+                                     const std::optional<Vec3f>& wi, float pd) {
+    if (!wi) return std::nullopt;
+    const PhongSample s = evaluateWith(m, kd, n, wo, *wi, pd);
     if (!(s.pdf > 0.f)) return std::nullopt;
     return s;
 }
@@ -82,9 +89,10 @@ PhongSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, cons
 }
 
 std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u) {
-    return sampleLobes(
-        m, kd, n, wo, u, phongDiffuseProbability(m, kd), [&] { return Frame::fromNormal(n); },
-        [&] { return Frame::fromNormal(mirrorOf(n, wo)); });
+    const float pd = phongDiffuseProbability(m, kd);
+    const std::optional<Vec3f> wi = sampleLobeDirection(
+        m, n, u, pd, [&] { return Frame::fromNormal(n); }, [&] { return Frame::fromNormal(mirrorOf(n, wo)); });
+    return evaluated(m, kd, n, wo, wi, pd);
 }
 
 PhongSampler::PhongSampler(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo)
@@ -93,11 +101,14 @@ PhongSampler::PhongSampler(const Material& m, const Rgb& kd, const Vec3f& n, con
     if (pd_ < 1.f) lobe_ = Frame::fromNormal(mirrorOf(n, wo));
 }
 
-std::optional<PhongSample> PhongSampler::sample(Vec2f u) const {
-    return sampleLobes(
-        m_, kd_, n_, wo_, u, pd_, [this]() -> const Frame& { return diffuse_; },
-        [this]() -> const Frame& { return lobe_; });
+std::optional<Vec3f> PhongSampler::direction(Vec2f u) const {
+    return sampleLobeDirection(
+        m_, n_, u, pd_, [this]() -> const Frame& { return diffuse_; }, [this]() -> const Frame& { return lobe_; });
 }
+
+PhongSample PhongSampler::evaluate(const Vec3f& wi) const { return evaluateWith(m_, kd_, n_, wo_, wi, pd_); }
+
+std::optional<PhongSample> PhongSampler::sample(Vec2f u) const { return evaluated(m_, kd_, n_, wo_, direction(u), pd_); }
 
 float phongPdf(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi) {
     return phongEvaluate(m, kd, n, wo, wi).pdf;

@@ -43,6 +43,13 @@ class PhongSampler {
 public:
     PhongSampler(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo);
     std::optional<PhongSample> sample(Vec2f u) const;
+    /// sample() in two steps, for callers that may not need f and the pdf
+    /// (a direct-light BRDF sample that meets no light): the direction alone
+    /// (nullopt below the surface, or where nothing is reflected), then its
+    /// f cos and pdf. sample(u) is direction(u), then evaluate(), dropping a
+    /// zero pdf.
+    std::optional<Vec3f> direction(Vec2f u) const;
+    PhongSample evaluate(const Vec3f& wi) const;
 
 private:
     const Material& m_;

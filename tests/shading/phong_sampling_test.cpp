@@ -74,7 +74,8 @@ TEST(PhongSampling, ClassicSharpLobeFits) { expectPhongFits({PhongModel::Classic
 
 // Direct light's BRDF samples at one shading point come from a PhongSampler
 // (the lobe probability and frames worked out once): the same samples, bit
-// for bit, as samplePhong for each, whichever lobes the material has.
+// for bit, as samplePhong for each, whichever lobes the material has, and
+// the same again in two steps (direction, then evaluate where it is needed).
 TEST(PhongSampling, ASamplerAtOnePointGivesSamplePhongsSamples) {
     const Case cases[] = {{PhongModel::Classic, 0.3f, 0.2f, 40.f, 20.f},   {PhongModel::Normalized, 0.5f, 0.3f, 60.f, 70.f},
                           {PhongModel::Normalized, 0.8f, 0.f, 1.f, 30.f},  {PhongModel::Classic, 0.f, 0.9f, 20.f, 40.f},
@@ -94,11 +95,18 @@ TEST(PhongSampling, ASamplerAtOnePointGivesSamplePhongsSamples) {
             const Vec2f u = multiJitter2D(i, 4096, 3);
             const auto want = samplePhong(m, m.kd, n, wo, u), got = sampler.sample(u);
             ASSERT_EQ(got.has_value(), want.has_value()) << "sample " << i;
+            const std::optional<Vec3f> wi = sampler.direction(u);
+            const std::optional<PhongSample> twoSteps =
+                wi && sampler.evaluate(*wi).pdf > 0.f ? std::optional(sampler.evaluate(*wi)) : std::nullopt;
+            ASSERT_EQ(twoSteps.has_value(), want.has_value()) << "sample " << i;
             if (!want) continue;
             ++some;
             ASSERT_EQ(got->wi, want->wi) << "sample " << i;
             ASSERT_EQ(got->fCos, want->fCos) << "sample " << i;
             ASSERT_EQ(got->pdf, want->pdf) << "sample " << i;
+            ASSERT_EQ(twoSteps->wi, want->wi) << "sample " << i;
+            ASSERT_EQ(twoSteps->fCos, want->fCos) << "sample " << i;
+            ASSERT_EQ(twoSteps->pdf, want->pdf) << "sample " << i;
         }
         EXPECT_EQ(some > 0, c.kd > 0.f || c.ks > 0.f);
     }

@@ -81,6 +81,20 @@ TriangleMesh insideOutCube(float h, uint32_t material, int split = 1) {
     return m;
 }
 
+// A sharp glossy floor (y = 0) under a 4 x 4 rectangle light at y = 2 facing it.
+Scene sharpGlossyFloorUnderALargeLight() {
+    Scene s;
+    Material g;
+    g.kd = Rgb(0.05f);
+    g.ks = Rgb(0.8f);
+    g.exponent = 300.f;
+    const uint32_t gm = addMaterial(s, g);
+    const uint32_t lm = addMaterial(s, emitter(4.f));
+    s.planes.push_back(Plane{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, true, gm});
+    s.rectangles.push_back(Rectangle{Vec3f{-2, 2, -2}, Vec3f{4, 0, 0}, Vec3f{0, 0, 4}, lm});  // faces -y
+    return s;
+}
+
 class DirectLight : public test::ForBothAccelerators {
 protected:
     PrepareOptions prep() const {
@@ -147,16 +161,8 @@ TEST_P(DirectLight, BrdfSamplesStopAtWhatLiesInFrontOfTheLight) {
     // the light that covers it as seen from the point leaves no light at all;
     // one that covers half of it leaves what light samples alone estimate.
     for (float cover : {1.f, 0.5f}) {
-        Scene s;
-        Material g;
-        g.kd = Rgb(0.05f);
-        g.ks = Rgb(0.8f);
-        g.exponent = 300.f;
-        const uint32_t gm = addMaterial(s, g);
-        const uint32_t lm = addMaterial(s, emitter(4.f));
+        Scene s = sharpGlossyFloorUnderALargeLight();
         const uint32_t bm = addMaterial(s, Material{});
-        s.planes.push_back(Plane{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, true, gm});
-        s.rectangles.push_back(Rectangle{Vec3f{-2, 2, -2}, Vec3f{4, 0, 0}, Vec3f{0, 0, 4}, lm});  // faces -y
         s.boxes.push_back(makeBox(Vec3f{-3, 1.8f, -3}, Vec3f{-3 + 6 * cover, 1.9f, 3}, Transform(), bm));
         PreparedScene ps(std::move(s), prep(), quietLogger());
         const Ray ray{Vec3f{-1.f, 1.f, 0.f}, normalize(Vec3f{1.f, -1.f, 0.f}), 0.f, kInfinity};
@@ -215,15 +221,7 @@ TEST_P(DirectLight, EstimatorsAgreeOnAGlossyPointInsideAUniformEmitter) {
 TEST_P(DirectLight, MisLowersTheNoiseOfASharpHighlightOfALargeLight) {
     // A sharp glossy floor under a large rectangle light seen near the mirror
     // direction: light samples rarely land in the lobe, BRDF samples do.
-    Scene s;
-    Material g;
-    g.kd = Rgb(0.05f);
-    g.ks = Rgb(0.8f);
-    g.exponent = 300.f;
-    const uint32_t gm = addMaterial(s, g);
-    const uint32_t lm = addMaterial(s, emitter(4.f));
-    s.planes.push_back(Plane{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, true, gm});
-    s.rectangles.push_back(Rectangle{Vec3f{-2, 2, -2}, Vec3f{4, 0, 0}, Vec3f{0, 0, 4}, lm});  // faces -y
+    Scene s = sharpGlossyFloorUnderALargeLight();
     PreparedScene ps(std::move(s), prep(), quietLogger());
     const Ray ray{Vec3f{-1.f, 1.f, 0.f}, normalize(Vec3f{1.f, -1.f, 0.f}), 0.f, kInfinity};
     const Stats mis = estimate(ps, ray, 4, DirectLightSampling::Mis, 256);

@@ -190,7 +190,7 @@ typedef struct pnb_render_stats {
     uint64_t transmission_rays, indirect_rays;
     uint64_t path_length_sum; /* rays along each camera sample's path, summed (mean = sum / camera_rays) */
     uint32_t path_length_max;
-    uint64_t brdf_rays; /* whitted: BRDF-sampled direct-light rays under MIS (closest-hit queries) */
+    uint64_t brdf_rays; /* whitted: BRDF-sampled direct-light rays traced under MIS (docs/rendering.md) */
 } pnb_render_stats;
 
 /* Hooks for a synchronous render; fill with zeros or pnb_render_callbacks_init. progress gets the

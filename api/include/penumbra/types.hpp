@@ -182,8 +182,10 @@ struct RenderStats {
     /// whitted: its deepest branch). Sum over samples (mean = pathLengthSum / cameraRays) and maximum.
     std::uint64_t pathLengthSum = 0;
     std::uint32_t pathLengthMax = 0;
-    /// whitted: rays sampled from the BRDF for direct light under MIS (closest-hit queries that
-    /// look for a light; shadowRays are the occlusion queries towards sampled light points).
+    /// whitted: rays sampled from the BRDF for direct light under MIS that are traced (an
+    /// occlusion query up to the light a ray meets where the lights have few primitives, else a
+    /// closest-hit query that looks for one; shadowRays are the occlusion queries towards sampled
+    /// light points).
     std::uint64_t brdfRays = 0;
 
     /// Every ray traced: the sum of the kinds above (invalid rays are not traced).

@@ -57,20 +57,32 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
         }
     }
     areaLights_ = lights_.size();
-    // Bounding spheres of the area lights, in the order they were added.
-    const auto addBounds = [&](const Bounds3f& b) {
-        bounds_.push_back({b.center(), 0.25f * lengthSquared(b.diagonal())});
+    // Bounding spheres of the area lights, in the order they were added, and
+    // each light's primitives (for firstEmitterHit): a mesh light is every
+    // triangle of its material, as lightOf() counts them (degenerate ones
+    // too: no ray meets them).
+    const auto addLight = [&](const Vec3f& center, float radius2, std::initializer_list<PrimRef> prims) {
+        bounds_.push_back({center, radius2});
+        emitters_.push_back({uint32_t(emitterPrims_.size()), uint32_t(prims.size())});
+        emitterPrims_.insert(emitterPrims_.end(), prims);
+    };
+    const auto addBounded = [&](const Bounds3f& b, PrimRef prim) {
+        addLight(b.center(), 0.25f * lengthSquared(b.diagonal()), {prim});
     };
     for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
-        if (rectangleLight_[i] >= 0) addBounds(penumbra::bounds(scene.rectangles[i]));
+        if (rectangleLight_[i] >= 0)
+            addBounded(penumbra::bounds(scene.rectangles[i]), PrimRef{ShapeKind::Rectangle, i, 0, 0});
     for (uint32_t i = 0; i < scene.disks.size(); ++i)
-        if (diskLight_[i] >= 0) addBounds(penumbra::bounds(scene.disks[i]));
+        if (diskLight_[i] >= 0) addBounded(penumbra::bounds(scene.disks[i]), PrimRef{ShapeKind::Disk, i, 0, 0});
     for (uint32_t i = 0; i < scene.spheres.size(); ++i)
-        if (sphereLight_[i] >= 0) bounds_.push_back({scene.spheres[i].center, scene.spheres[i].radius * scene.spheres[i].radius});
+        if (sphereLight_[i] >= 0)
+            addLight(scene.spheres[i].center, scene.spheres[i].radius * scene.spheres[i].radius,
+                     {PrimRef{ShapeKind::Sphere, i, 0, 0}});
     for (uint32_t m = 0; m < scene.meshes.size(); ++m)
         for (const auto& [mat, light] : meshLights_[m]) {
             Bounds3f b;
             const TriangleMesh& mesh = scene.meshes[m];
+            const uint32_t first = uint32_t(emitterPrims_.size());
             for (uint32_t t = 0; t < mesh.triangleCount(); ++t)
                 if (mesh.materialOf(t) == mat) {
                     Vec3f p0, p1, p2;
@@ -78,28 +90,12 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
                     b.extend(p0);
                     b.extend(p1);
                     b.extend(p2);
+                    emitterPrims_.push_back(PrimRef{ShapeKind::Mesh, m, t, 0});
                 }
-            addBounds(b);
+            bounds_.push_back({b.center(), 0.25f * lengthSquared(b.diagonal())});
+            emitters_.push_back({first, uint32_t(emitterPrims_.size()) - first});
             (void)light;
         }
-
-    // The area lights' primitives, for firstEmitterHit.
-    const auto addEmitter = [&](ShapeKind kind, uint32_t object, uint32_t prim, int32_t light) {
-        const BoundingSphere& b = bounds_[size_t(light)];
-        emitters_.push_back({PrimRef{kind, object, prim, 0}, uint32_t(light), b.center, std::sqrt(b.radius2)});
-    };
-    for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
-        if (rectangleLight_[i] >= 0) addEmitter(ShapeKind::Rectangle, i, 0, rectangleLight_[i]);
-    for (uint32_t i = 0; i < scene.disks.size(); ++i)
-        if (diskLight_[i] >= 0) addEmitter(ShapeKind::Disk, i, 0, diskLight_[i]);
-    for (uint32_t i = 0; i < scene.spheres.size(); ++i)
-        if (sphereLight_[i] >= 0) addEmitter(ShapeKind::Sphere, i, 0, sphereLight_[i]);
-    // A mesh light is every triangle of its material, as lightOf() counts them
-    // (degenerate ones too: no ray meets them).
-    for (uint32_t m = 0; m < scene.meshes.size(); ++m)
-        for (const auto& [mat, light] : meshLights_[m])
-            for (uint32_t t = 0; t < scene.meshes[m].triangleCount(); ++t)
-                if (scene.meshes[m].materialOf(t) == mat) addEmitter(ShapeKind::Mesh, m, t, int32_t(light));
 
     const Bounds3f b = scene.bounds();
     const float radius = b.empty() ? 1.f : 0.5f * length(b.diagonal());
@@ -147,33 +143,39 @@ std::optional<LightSet::EmitterHit> LightSet::firstEmitterHit(const Ray& ray) co
     Ray r = ray;  // shrinks to the closest hit so far, as in the naive accelerator
     std::optional<EmitterHit> best;
     const float dd = dot(ray.d, ray.d);
-    for (const Emitter& e : emitters_) {
-        // The bounding sphere first (most rays pass every light by): skip
-        // where the ray's line passes farther from its centre than its radius,
-        // or where it lies wholly behind the origin, each by a margin of 1e-6
-        // of the centre's distance, above the rounding of these few
+    for (size_t light = 0; light < emitters_.size(); ++light) {
+        // The light's bounding sphere first (most rays pass every light by):
+        // skip where the ray's line passes farther from its centre than its
+        // radius, or where it lies wholly behind the origin, each by a margin
+        // of 1e-6 of the centre's distance, above the rounding of these few
         // operations (so no ray that meets the light is skipped).
-        const Vec3f oc = e.center - ray.o;
+        const BoundingSphere& bound = bounds_[light];
+        const Vec3f oc = bound.center - ray.o;
         const float along = dot(oc, ray.d) / dd;
         const Vec3f off = oc - along * ray.d;
-        const float reach = e.radius + 1e-6f * (std::fabs(oc.x) + std::fabs(oc.y) + std::fabs(oc.z));
+        const float reach =
+            std::sqrt(bound.radius2) + 1e-6f * (std::fabs(oc.x) + std::fabs(oc.y) + std::fabs(oc.z));
         if (dot(off, off) > reach * reach || along * std::sqrt(dd) < -reach) continue;
-        std::optional<PrimHit> h;
-        switch (e.ref.kind) {
-            case ShapeKind::Rectangle: h = intersect(scene_.rectangles[e.ref.object], r); break;
-            case ShapeKind::Disk: h = intersect(scene_.disks[e.ref.object], r); break;
-            case ShapeKind::Sphere: h = intersect(scene_.spheres[e.ref.object], r); break;
-            case ShapeKind::Mesh: {
-                Vec3f p0, p1, p2;
-                scene_.meshes[e.ref.object].vertices(e.ref.prim, p0, p1, p2);
-                h = intersectTriangle(p0, p1, p2, r);
-                break;
+        const EmitterRange& range = emitters_[light];
+        for (uint32_t k = range.first; k < range.first + range.count; ++k) {
+            const PrimRef& ref = emitterPrims_[k];
+            std::optional<PrimHit> h;
+            switch (ref.kind) {
+                case ShapeKind::Rectangle: h = intersect(scene_.rectangles[ref.object], r); break;
+                case ShapeKind::Disk: h = intersect(scene_.disks[ref.object], r); break;
+                case ShapeKind::Sphere: h = intersect(scene_.spheres[ref.object], r); break;
+                case ShapeKind::Mesh: {
+                    Vec3f p0, p1, p2;
+                    scene_.meshes[ref.object].vertices(ref.prim, p0, p1, p2);
+                    h = intersectTriangle(p0, p1, p2, r);
+                    break;
+                }
+                default: break;
             }
-            default: break;
+            if (!h) continue;
+            r.tfar = h->t;
+            best = EmitterHit{light, ref, *h};
         }
-        if (!h) continue;
-        r.tfar = h->t;
-        best = EmitterHit{e.light, e.ref, *h};
     }
     return best;
 }

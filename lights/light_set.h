@@ -57,7 +57,7 @@ public:
     std::optional<EmitterHit> firstEmitterHit(const Ray& ray) const;
     /// Whether the area lights have few enough primitives (kMaxTestedEmitters)
     /// for firstEmitterHit to cost less than a closest-hit query.
-    bool emittersTestable() const { return emitters_.size() <= kMaxTestedEmitters; }
+    bool emittersTestable() const { return emitterPrims_.size() <= kMaxTestedEmitters; }
     static constexpr size_t kMaxTestedEmitters = 16;
 
     /// Whether area light i may subtend more than omega at p: whether its
@@ -78,16 +78,13 @@ public:
 private:
     const Scene& scene_;
     std::vector<std::unique_ptr<Light>> lights_;
-    // Every area-light primitive with its light index, in light order, and
-    // its light's bounding sphere (a ray that passes it by meets none of the
-    // light's primitives).
-    struct Emitter {
-        PrimRef ref;
-        uint32_t light;
-        Vec3f center;
-        float radius;
+    // Every area-light primitive, light by light; emitters_[i]: light i's
+    // range of them (area lights come first among the lights).
+    std::vector<PrimRef> emitterPrims_;
+    struct EmitterRange {
+        uint32_t first, count;
     };
-    std::vector<Emitter> emitters_;
+    std::vector<EmitterRange> emitters_;
     // Light index per rectangle, disk and sphere (-1: not emissive), and per
     // mesh its (material, light index) pairs.
     std::vector<int32_t> rectangleLight_, diskLight_, sphereLight_;

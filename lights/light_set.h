@@ -68,6 +68,15 @@ public:
         return b.radius2 >= 0.f && subtendsAtLeast(b.center, b.radius2, p, omega);
     }
 
+    /// A sphere holding every primitive of area light i (its squared
+    /// radius, rounded to float, can fall short by an ulp or so; radius2 < 0
+    /// for delta lights).
+    struct BoundingSphere {
+        Vec3f center;
+        float radius2 = -1.f;
+    };
+    const BoundingSphere& boundingSphere(size_t i) const { return bounds_[i]; }
+
     size_t areaLightCount() const { return areaLights_; }
     float totalEmitterArea() const { return totalArea_; }
 
@@ -89,10 +98,6 @@ private:
     // mesh its (material, light index) pairs.
     std::vector<int32_t> rectangleLight_, diskLight_, sphereLight_;
     std::vector<std::vector<std::pair<uint32_t, uint32_t>>> meshLights_;
-    struct BoundingSphere {
-        Vec3f center;
-        float radius2 = -1.f;  // < 0: delta light
-    };
     std::vector<BoundingSphere> bounds_;
     std::vector<float> powerCdf_;  // normalised, last = 1
     size_t areaLights_ = 0;

@@ -5,6 +5,7 @@
 #include "core/texture_cache.h"
 #include "lights/environment_light.h"
 #include "shading/dielectric.h"
+#include "shading/light_windows.h"
 #include "shading/mis.h"
 #include "shading/phong.h"
 #include "shading/phong_sampling.h"
@@ -504,6 +505,10 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
     if (anyMis) {
         Rgb brdf[kMaxBatch];
         BrdfQueue brdfQueue(accel_, scene_, lights_, power, counts, brdf, float(n), float(nBrdf));
+        // Where only the lights' own surfaces count (no environment) and they
+        // are few, samples that can meet no light are dropped before their
+        // direction is made: they would add nothing and trace no ray.
+        const bool windowed = lights_.emittersTestable() && !lights_.environment();
         const uint32_t dim = dimBase + uint32_t(nLights) + 1;
         for (size_t q = 0; q < nLit; ++q) {
             if (!mis[lit[q]]) continue;
@@ -511,12 +516,16 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
             const ShadingPoint& sp = lane.sp;
             const OwenSobol2D seq = dimensionSequence(lane.key, dim);
             const PhongSampler sampler(*sp.material, sp.kd, sp.ns, sp.wo);
+            std::optional<LightWindows> windows;
+            if (windowed) windows.emplace(sampler, lights_, sp.p);
             for (uint32_t k0 = 0; k0 < nBrdf; k0 += kSampleChunk) {
                 const uint32_t m = std::min(nBrdf - k0, kSampleChunk);
                 ScratchArray<Vec2f, kSampleChunk> u;
                 seq.samplePoints(lane.key.index, nBrdf, k0, m, u.data());
-                for (uint32_t k = 0; k < m; ++k)
+                for (uint32_t k = 0; k < m; ++k) {
+                    if (windows && !windows->mayReachALight(u[k])) continue;
                     if (const std::optional<Vec3f> wi = sampler.direction(u[k])) brdfQueue.add(lit[q], sp, sampler, *wi);
+                }
             }
         }
         brdfQueue.flush();

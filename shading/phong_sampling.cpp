@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/sampling.h"
 #include "shading/phong.h"
@@ -53,6 +54,13 @@ PhongSample evaluateWith(const Material& m, const Rgb& kd, const Vec3f& n, const
 
 Vec3f mirrorOf(const Vec3f& n, const Vec3f& wo) { return normalize(2.f * dot(n, wo) * n - wo); }
 
+// The lobe u picks (diffuse where u.x < pd) and u with u.x rescaled to [0, 1) within that lobe's share.
+std::pair<bool, Vec2f> pickLobe(Vec2f u, float pd) {
+    const bool diffuse = u.x < pd;
+    u.x = std::min(diffuse ? u.x / pd : (u.x - pd) / (1.f - pd), 0x1.fffffep-1f);
+    return {diffuse, u};
+}
+
 // samplePhong's direction once the diffuse lobe's probability pd is known;
 // the frames of the two lobes (about n, about the mirror direction of wo)
 // come from diffuseFrame() and lobeFrame(), asked only for the lobe u picks.
@@ -60,14 +68,9 @@ template <class DiffuseFrame, class LobeFrame>
 std::optional<Vec3f> sampleLobeDirection(const Material& m, const Vec3f& n, Vec2f u, float pd,
                                          const DiffuseFrame& diffuseFrame, const LobeFrame& lobeFrame) {
     if (pd <= 0.f && Rgb(m.ks).isBlack()) return std::nullopt;
-    Vec3f wi;
-    if (u.x < pd) {
-        u.x = std::min(u.x / pd, 0x1.fffffep-1f);
-        wi = diffuseFrame().toWorld(squareToCosineHemisphere(u));
-    } else {
-        u.x = std::min((u.x - pd) / (1.f - pd), 0x1.fffffep-1f);
-        wi = lobeFrame().toWorld(squareToPhongLobe(u, m.exponent));
-    }
+    const auto [diffuse, v] = pickLobe(u, pd);
+    Vec3f wi = diffuse ? diffuseFrame().toWorld(squareToCosineHemisphere(v))
+                       : lobeFrame().toWorld(squareToPhongLobe(v, m.exponent));
     wi = normalize(wi);
     if (!(dot(n, wi) > 0.f)) return std::nullopt;
     return wi;
@@ -107,6 +110,32 @@ std::optional<Vec3f> PhongSampler::direction(Vec2f u) const {
 }
 
 PhongSample PhongSampler::evaluate(const Vec3f& wi) const { return evaluateWith(m_, kd_, n_, wo_, wi, pd_); }
+
+PhongSampler::Polar PhongSampler::polar(Vec2f u) const {
+    const auto [diffuse, v] = pickLobe(u, pd_);
+    if (!diffuse) return {false, v.x, 8.f * v.y};  // squareToPhongLobe: cos = (1 - v.x)^(1/(e+1)), phi = 2 pi v.y
+    // squareToConcentricDisk: the radius is the larger of |x|, |y|; the angle
+    // pi/4 y/x or pi/2 - pi/4 x/y, half a turn on where that radius is negative.
+    const float x = 2.f * v.x - 1.f, y = 2.f * v.y - 1.f;
+    const float ax = std::fabs(x), ay = std::fabs(y);
+    if (ax > ay) return {true, ax, (x > 0.f ? 0.f : 4.f) + y / x};
+    if (ay == 0.f) return {true, 0.f, 0.f};  // the centre: the axis itself
+    return {true, ay, (y > 0.f ? 2.f : 6.f) - x / y};
+}
+
+std::pair<float, float> PhongSampler::polarRange(bool diffuse, double minAngle, double maxAngle) const {
+    constexpr double kQuarter = 1.57079632679489661923;  // pi / 2
+    constexpr float kNone = std::numeric_limits<float>::infinity();
+    // Neither lobe samples past a quarter turn from its axis.
+    if (minAngle > kQuarter || maxAngle < 0.0 || minAngle > maxAngle) return {kNone, -kNone};
+    // The coordinate of angle a, a monotone function on [0, pi/2]; the ends
+    // of the range rounded outwards to floats.
+    const double e1 = double(m_.exponent) + 1.0;
+    const auto coordinate = [&](double a) { return diffuse ? std::sin(a) : 1.0 - std::pow(std::cos(a), e1); };
+    const float lo = minAngle <= 0.0 ? -kNone : std::nextafter(float(coordinate(minAngle)), -kNone);
+    const float hi = maxAngle >= kQuarter ? kNone : std::nextafter(float(coordinate(maxAngle)), kNone);
+    return {lo, hi};
+}
 
 std::optional<PhongSample> PhongSampler::sample(Vec2f u) const { return evaluated(m_, kd_, n_, wo_, direction(u), pd_); }
 

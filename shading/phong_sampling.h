@@ -12,6 +12,7 @@
 #pragma once
 
 #include <optional>
+#include <utility>
 
 #include "core/color.h"
 #include "core/material.h"
@@ -50,6 +51,30 @@ public:
     /// zero pdf.
     std::optional<Vec3f> direction(Vec2f u) const;
     PhongSample evaluate(const Vec3f& wi) const;
+
+    /// Where direction(u) goes, told from u alone before the direction is
+    /// made: the lobe u picks and the sample's coordinates in it (the
+    /// rescaled u is direction()'s own). s grows with the direction's angle
+    /// from that lobe's axis: the concentric disk's radius, the sine of the
+    /// angle from n, for the diffuse lobe; 1 - cos^(e+1) of the angle from
+    /// the mirror direction of wo for the cos^e lobe. azimuth is the
+    /// direction's azimuth about the axis in the lobe's frame (lobeFrame:
+    /// from s towards t), in eighths of a turn, exactly (the concentric map
+    /// is linear in it along each octant), in [-1, 8).
+    struct Polar {
+        bool diffuse;
+        float s, azimuth;
+    };
+    Polar polar(Vec2f u) const;
+    /// The frame whose n is the axis of the diffuse lobe (the shading
+    /// normal) or of the cos^e lobe (the mirror direction of wo), as
+    /// direction() uses it; only for a lobe u can pick (picks()).
+    const Frame& lobeFrame(bool diffuse) const { return diffuse ? diffuse_ : lobe_; }
+    bool picks(bool diffuse) const { return diffuse ? pd_ > 0.f : pd_ < 1.f; }
+    /// The closed range [lo, hi] of polar coordinates of a lobe whose exact
+    /// directions (without rounding) make an angle in [minAngle, maxAngle]
+    /// radians with its axis; lo > hi where there are none.
+    std::pair<float, float> polarRange(bool diffuse, double minAngle, double maxAngle) const;
 
 private:
     const Material& m_;

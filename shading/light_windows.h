@@ -1,0 +1,71 @@
+// Which of a shading point's BRDF samples may meet an area light, told from
+// each sample's u before its direction is made. Under small lights most
+// direct-light BRDF samples meet no light (in room.json 99.8% of the glossy
+// sphere's) and add nothing, yet making each one's direction (a pow or a
+// square root, a sine and a cosine, a frame) and testing it against the
+// lights cost most of what those samples cost.
+//
+// Seen from the point, a light's bounding sphere fills a cone of directions
+// (half-angle b, its axis at angle g from a lobe's axis). A direction in it
+// makes an angle within [g - b, g + b] with the lobe's axis, and (where the
+// cone holds neither that axis nor its opposite) has an azimuth about the
+// axis within asin(sin b / sin g) of the cone axis's. The sample's polar
+// coordinate grows with that angle and its azimuth is its own
+// (PhongSampler::polar), so each light gives each lobe one window of
+// coordinates, worked out once per point, and each sample is tested against
+// the windows alone. The cones are widened for the ray's offset origin and
+// both windows by 2e-3 rad, above the rounding of a direction's making
+// (under 1e-3 rad: near a lobe's axis, where cos a rounds to the float below
+// 1; azimuths are not used within 0.01 rad of the axis, where rounding moves
+// them most), so a sample outside every window is one whose ray the exact
+// test (LightSet::firstEmitterHit) finds meeting no light.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "core/math.h"
+#include "lights/light_set.h"
+#include "shading/phong_sampling.h"
+
+namespace penumbra {
+
+class LightWindows {
+public:
+    /// The windows of sampler's samples at p (spawned off the surface there)
+    /// onto the area lights of `lights`. Keeps a reference to the sampler.
+    LightWindows(const PhongSampler& sampler, const LightSet& lights, const Vec3f& p);
+
+    /// False only where the ray of sampler.direction(u) can meet no area
+    /// light: true for every u where p lies in or next to a light's bounding
+    /// sphere, or where there are more lights than the windows hold.
+    bool mayReachALight(Vec2f u) const {
+        if (everywhere_) return true;
+        const PhongSampler::Polar c = sampler_.polar(u);
+        const Windows& w = windows_[c.diffuse ? 1 : 0];
+        bool in = false;
+        for (uint32_t k = 0; k < w.count; ++k) {
+            float turn = c.azimuth - w.azimuth[k];  // to [-4, 4): eighths of a turn either way
+            turn -= 8.f * std::floor((turn + 4.f) * 0.125f);
+            in |= c.s >= w.lo[k] && c.s <= w.hi[k] && std::fabs(turn) <= w.halfWidth[k];
+        }
+        return in;
+    }
+
+    /// The margin added to each cone's half-angle, radians.
+    static constexpr double kAngleMargin = 2e-3;
+
+private:
+    static constexpr size_t kMaxLights = LightSet::kMaxTestedEmitters;
+    const PhongSampler& sampler_;
+    bool everywhere_ = false;
+    struct Windows {
+        uint32_t count = 0;
+        // Per light: the polar coordinate's range, the azimuth of the cone's
+        // axis and the half-width about it (eighths of a turn; 4: any).
+        float lo[kMaxLights], hi[kMaxLights], azimuth[kMaxLights], halfWidth[kMaxLights];
+    };
+    Windows windows_[2];  // [0] the cos^e lobe, [1] the diffuse one
+};
+
+}  // namespace penumbra

@@ -50,6 +50,7 @@
 #include "accel/accelerator.h"
 #include "accel/embree_device.h"
 #include "accel/embree_packets.h"
+#include "accel/shape_bounds.h"
 #include "core/error.h"
 #include "core/lane_clones.h"
 
@@ -496,7 +497,7 @@ public:
         }
         for (int l = 0; l < n; ++l) out[l] = static_cast<uint8_t>(blocked[l]);
         if (!any || !keepLanesInRootBounds<W>(pr, valid)) return;
-        if (hasShapeBounds_ && !keepLanesMeetingShapes<W>(pr, valid)) return;
+        if (shapeBounds_.available() && !keepLanesMeetingShapes<W>(pr, valid)) return;
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         Packet<W>::occluded(valid, rtcScene_.get(), &ctx, &pr);
@@ -586,44 +587,6 @@ private:
         check("rtcCommitScene");
         memoryAfterCommit_ = static_cast<size_t>(std::max<int64_t>(0, memoryBytes_.load()));
         if (hasEmbreeGeometry_) setRootBounds();
-        if (hasEmbreeGeometry_) setShapeBounds();
-    }
-
-    // Each shape's own bounds, for the occlusion packets' second pre-test
-    // (keepLanesMeetingShapes), where the scene has few shapes: a sphere as
-    // itself, every other shape (a mesh or an instance whole) as its box. The
-    // margin, 4e-6 of the shape's coordinates (1e-5 for spheres, whose test
-    // rounds more), is far above the rounding of Embree's hits and of the
-    // tests, and below the offset a ray leaving a surface starts at (1.5e-5
-    // of the point's coordinates): a shadow ray leaving a wall does not meet
-    // that wall's box.
-    void setShapeBounds() {
-        const size_t shapes = scene_.spheres.size() + scene_.boxes.size() + scene_.rectangles.size() +
-                              scene_.disks.size() + scene_.meshes.size() + scene_.instances.size();
-        if (shapes > kMaxTestedShapes) return;
-        const auto addBox = [&](const Bounds3f& b) {
-            if (b.empty()) return;  // nothing Embree holds
-            const float pad = 4e-6f * std::max(1.f, std::max(maxAbsComponent(b.lo), maxAbsComponent(b.hi)));
-            shapeBoxes_.push_back({b.lo - Vec3f(pad), b.hi + Vec3f(pad)});
-        };
-        for (const Box& b : scene_.boxes) addBox(penumbra::bounds(b));
-        for (const Rectangle& r : scene_.rectangles) addBox(penumbra::bounds(r));
-        for (const Disk& d : scene_.disks) addBox(penumbra::bounds(d));
-        for (const TriangleMesh& m : scene_.meshes) {
-            Bounds3f b;
-            for (uint32_t i : m.indices) b.extend(m.positions[i]);
-            addBox(b);
-        }
-        for (const Instance& in : scene_.instances)
-            if (in.prototype < scene_.prototypes.size()) addBox(instanceBounds(scene_.prototypes[in.prototype], in));
-        for (const Sphere& sp : scene_.spheres) {
-            const float pad = 1e-5f * (std::max(1.f, maxAbsComponent(sp.center)) + sp.radius);
-            shapeSpheres_.push_back({sp.center, sp.radius + pad});
-        }
-        bool finite = true;
-        for (const Bounds3f& b : shapeBoxes_) finite = finite && isFinite(b.lo) && isFinite(b.hi);
-        for (const Sphere& sp : shapeSpheres_) finite = finite && isFinite(sp.center) && std::isfinite(sp.radius);
-        hasShapeBounds_ = finite;  // else the bounds could hide a hit: no second pre-test
     }
 
     // The box every Embree geometry lies in (rtcGetSceneBounds), grown by a
@@ -682,7 +645,7 @@ private:
     }
 
     // Clears valid[l] for the lanes whose interval [tnear, tfar] meets no
-    // shape's bounds (setShapeBounds): slab tests against the boxes and the
+    // shape's bounds (accel/shape_bounds.h): slab tests against the boxes and the
     // closest approach to the spheres, over the lanes. As in
     // keepLanesInRootBounds, a NaN only keeps a lane. In a scene of a few
     // shapes most shadow rays cross open space between the surfaces (the
@@ -698,8 +661,8 @@ private:
             iy[l] = 1.f / (p.dir_y[l] != 0.f ? p.dir_y[l] : 1e-30f);
             iz[l] = 1.f / (p.dir_z[l] != 0.f ? p.dir_z[l] : 1e-30f);
         }
-        for (const Bounds3f& b : shapeBoxes_) {
-            const Vec3f lo = b.lo, hi = b.hi;
+        for (const ShapeBounds::PaddedBox& b : shapeBounds_.boxes()) {
+            const Vec3f lo = b.box.lo, hi = b.box.hi;
             for (int l = 0; l < W; ++l) {
                 const float ax = (lo.x - p.org_x[l]) * ix[l], bx = (hi.x - p.org_x[l]) * ix[l];
                 const float ay = (lo.y - p.org_y[l]) * iy[l], by = (hi.y - p.org_y[l]) * iy[l];
@@ -711,7 +674,7 @@ private:
                 meets[l] |= int(!(t0 > t1 + 1e-6f * std::fabs(t1)));  // a few ulps of t: the slab test's rounding
             }
         }
-        for (const Sphere& s : shapeSpheres_) {
+        for (const Sphere& s : shapeBounds_.spheres()) {
             const Vec3f c = s.center;
             const float r2 = s.radius * s.radius;
             for (int l = 0; l < W; ++l) {
@@ -868,13 +831,7 @@ private:
     bool hasEmbreeGeometry_ = false;
     bool hasRootBounds_ = false;  // rootLo_/rootHi_ hold the padded bounds of the Embree geometry
     Vec3f rootLo_, rootHi_;
-    // Padded bounds of each shape, where there are at most kMaxTestedShapes (setShapeBounds): the
-    // test's cost grows with them and its gain falls (showcase.json, 10 shapes whose bounds most
-    // shadow rays meet: 1.04x the render time with the test; room.json, 8: 0.95x).
-    static constexpr size_t kMaxTestedShapes = 8;
-    bool hasShapeBounds_ = false;
-    std::vector<Bounds3f> shapeBoxes_;
-    std::vector<Sphere> shapeSpheres_;  // radius padded
+    ShapeBounds shapeBounds_{scene_};  // the occlusion packets' second pre-test (keepLanesMeetingShapes)
     std::vector<uint32_t> boxOfQuad_;  // box index of each box quad (primID)
     unsigned firstInstanceGeomId_ = kFirstMeshGeomId;
 

@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -76,6 +77,10 @@ public:
         float radius2 = -1.f;
     };
     const BoundingSphere& boundingSphere(size_t i) const { return bounds_[i]; }
+    /// The primitives of area light i (firstEmitterHit's).
+    std::span<const PrimRef> emitterPrims(size_t i) const {
+        return std::span<const PrimRef>(emitterPrims_).subspan(emitters_[i].first, emitters_[i].count);
+    }
 
     size_t areaLightCount() const { return areaLights_; }
     float totalEmitterArea() const { return totalArea_; }

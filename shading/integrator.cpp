@@ -25,9 +25,55 @@ Rgb escapedRadiance(const Scene& scene, const LightSet& lights, const Vec3f& dir
 
 Integrator::Integrator(const Scene& scene, const Accelerator& accel, const LightSet& lights,
                        const TextureCache* textures, const RenderSettings& settings)
-    : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings) {
+    : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings), shapeBounds_(scene) {
     for (const Material& m : scene.materials) continues_ |= m.isMirror() || m.isDielectric();
     continues_ &= settings.maxDepth > 0;
+    clearTargets_.resize(lights.size());
+    if (!shapeBounds_.available()) return;
+    for (size_t j = 0; j < lights.areaLightCount(); ++j) {
+        const std::span<const PrimRef> prims = lights.emitterPrims(j);
+        if (prims.size() != 1) continue;
+        const PrimRef r = prims[0];
+        ClearTarget t;
+        t.self = r;
+        Bounds3f box;
+        if (r.kind == ShapeKind::Rectangle) {
+            const Rectangle& q = scene.rectangles[r.object];
+            box = bounds(q);
+            t.planePoint = q.p0;
+            t.planeNormal = cross(q.a, q.b);
+        } else if (r.kind == ShapeKind::Disk) {
+            const Disk& d = scene.disks[r.object];
+            box = bounds(d);
+            t.planePoint = d.center;
+            t.planeNormal = d.normal;
+        } else {
+            continue;
+        }
+        // Sampled points may round a little outside the shape's box.
+        const float pad = 2e-6f * std::max(1.f, std::max(maxAbsComponent(box.lo), maxAbsComponent(box.hi)));
+        box = Bounds3f{box.lo - Vec3f(pad), box.hi + Vec3f(pad)};
+        t.targets = ShapeBounds::Targets{box, box.center(), 0.5f * length(box.diagonal()) * (1.f + 1e-5f)};
+        const float len = length(t.planeNormal);
+        if (!(len > 0.f) || !isFinite(t.planeNormal) || !isFinite(box.lo) || !isFinite(box.hi)) continue;
+        t.planeNormal = t.planeNormal / len;
+        clearTargets_[j] = t;
+    }
+}
+
+bool Integrator::shadowsClear(size_t j, const Vec3f& p, const Vec3f& ng) const {
+    if (!clearTargets_[j]) return false;
+    const ClearTarget& t = *clearTargets_[j];
+    // The light's bounding sphere on the side ng faces, clearly: each
+    // sample's ray then leaves from p + ng * rayOffsetScale(p) (spawnRayTo,
+    // ShadowLanes::trace).
+    const Vec3f toLight = t.targets.center - p;
+    const float side = dot(toLight, ng) - t.targets.radius;
+    if (!(side > 1e-4f * std::max(1.f, maxAbsComponent(toLight)))) return false;
+    const Vec3f o = p + ng * rayOffsetScale(p);
+    // The origin clearly off the light's plane: no segment runs along the light.
+    if (!(std::fabs(dot(o - t.planePoint, t.planeNormal)) > 1e-4f * std::max(1.f, maxAbsComponent(o)))) return false;
+    return shapeBounds_.segmentsClear(o, t.targets, t.self);
 }
 
 Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLength, const Vec3f& wo) const {
@@ -438,6 +484,8 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
                     const PathLane& lane = lanes[lit[q]];
                     if (!light.mayReach(lane.sp.p, lane.sp.ng)) continue;  // every sample would be discarded
                     const OwenSobol2D seq = dimensionSequence(lane.key, dim);
+                    // Where nothing can lie between the point and the light, its rays need no query.
+                    const bool clear = shadowsClear(j, lane.sp.p, lane.sp.ng);
                     shadowLanes.setAll(lane.sp, mis[lit[q]]);
                     shadowLanesSet = false;  // no longer the lit lanes' points
                     constexpr uint32_t W = uint32_t(ShadowLanes::kWidth);
@@ -449,7 +497,7 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
                         light.sampleManyLanes(lane.sp.p, ux, uy, int(m), samples);
                         ScratchArray<Rgb, W> added;
                         counts.shadow +=
-                            shadowLanes.trace(samples, int(m), float(n), float(nBrdf), accel_, added.data());
+                            shadowLanes.trace(samples, int(m), float(n), float(nBrdf), accel_, added.data(), clear);
                         for (uint32_t c = 0; c < m; ++c) acc[lit[q]] += added[c];
                     }
                 }

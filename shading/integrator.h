@@ -11,6 +11,7 @@
 #include <span>
 
 #include "accel/accelerator.h"
+#include "accel/shape_bounds.h"
 #include "core/color.h"
 #include "core/owen_sobol.h"
 #include "core/render_settings.h"
@@ -128,11 +129,25 @@ private:
     bool resumePending(PathLane& lane) const;
     Rgb diffuseAlbedo(const Material& m, const Hit& hit, float pathLength, const Vec3f& wo) const;
 
+    // Whether every shadow ray from the surface at p (geometric normal ng) to
+    // area light j certainly meets nothing (ShapeBounds::segmentsClear):
+    // then its samples there need no query.
+    bool shadowsClear(size_t j, const Vec3f& p, const Vec3f& ng) const;
+
     const Scene& scene_;
     const Accelerator& accel_;
     const LightSet& lights_;
     const TextureCache* textures_;
     RenderSettings settings_;
+    ShapeBounds shapeBounds_;
+    // Per light, where it is one rectangle or disk: the box its samples lie
+    // in (padded), the primitive and its plane.
+    struct ClearTarget {
+        ShapeBounds::Targets targets;
+        PrimRef self;
+        Vec3f planePoint, planeNormal;
+    };
+    std::vector<std::optional<ClearTarget>> clearTargets_;
     float pixelSpread_ = 0.f;
     bool continues_ = false;  // some material sends rays on (mirror or glass) and the depth allows one
 };

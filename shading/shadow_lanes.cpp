@@ -7,15 +7,15 @@
 namespace penumbra {
 
 PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, float nLight, float nBrdf,
-                                                 const Accelerator& accel, Rgb* added) const {
+                                                 const Accelerator& accel, Rgb* added, bool clear) const {
     const LanePoints& at = points_;
     RayLanes rays;
     alignas(64) float wr[kWidth], wg[kWidth], wb[kWidth];
     // Every lane's shadow ray (spawnRayTo towards the sampled point) and, where
     // the surface is not glossy, phongResponse for an area light with no
     // specular lobe times L / pdf: the same operations in the same order, so
-    // the same values bit for bit.
-    for (int c = 0; c < n; ++c) {
+    // the same values bit for bit. (Where the caller knows them clear, no ray is made.)
+    for (int c = 0; c < (clear ? 0 : n); ++c) {
         const float px = at.px[c], py = at.py[c], pz = at.pz[c], gx = at.nx[c], gy = at.ny[c], gz = at.nz[c];
         // The ray: offsetRayOrigin, then from the origin to the point, stopping short by the point's offset.
         const float ax = std::fabs(px), ay = std::fabs(py), az = std::fabs(pz);
@@ -76,8 +76,8 @@ PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, flo
         wg[c] = w.g;
         wb[c] = w.b;
     }
-    alignas(64) uint8_t blocked[kWidth];
-    accel.occludedLanes(rays, blocked);
+    alignas(64) uint8_t blocked[kWidth] = {};
+    if (!clear) accel.occludedLanes(rays, blocked);
     uint32_t traced = 0;
     for (int c = 0; c < n; ++c) {
         const bool adds = rays.active[c] && !blocked[c];

@@ -61,9 +61,12 @@ public:
     /// Traces the samples of the first n lanes (those with samples.ok[c]) as
     /// one packet and writes into added[c] the weight (scale 1, light pdf =
     /// the sample's pdf) of each unoccluded one, Rgb{} for the others.
-    /// Returns how many shadow rays it traced.
-    uint32_t trace(const LightLanes& samples, int n, float nLight, float nBrdf, const Accelerator& accel,
-                   Rgb* added) const;
+    /// Returns how many shadow rays it answered. clear: the caller knows that
+    /// nothing lies between the lanes' points and their samples
+    /// (Integrator::shadowsClear): the rays are neither made nor traced, and
+    /// every one is unoccluded, as a query would have found.
+    uint32_t trace(const LightLanes& samples, int n, float nLight, float nBrdf, const Accelerator& accel, Rgb* added,
+                   bool clear = false) const;
 
 private:
     LanePoints points_;  // p and ng

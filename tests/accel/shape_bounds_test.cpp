@@ -107,15 +107,13 @@ TEST(ShapeBounds, NotKeptForManyShapesNorWithoutClearance) {
     const ShapeBounds b(one);
     ASSERT_TRUE(b.available());
     EXPECT_FALSE(b.segmentsClear(Vec3f{0, 0, 0}, t, std::nullopt));
-    EXPECT_TRUE(b.segmentsClear(Vec3f{4, 0, 0}, Bounds3f{Vec3f{3, 5, -1}, Vec3f{5, 5, 1}}.center() == Vec3f{4, 5, 0}
-                                    ? ShapeBounds::Targets{Bounds3f{Vec3f{3, 5, -1}, Vec3f{5, 5, 1}}, Vec3f{4, 5, 0}, 1.5f}
-                                    : t,
-                                std::nullopt));
+    const ShapeBounds::Targets beside{Bounds3f{Vec3f{3, 5, -1}, Vec3f{5, 5, 1}}, Vec3f{4, 5, 0}, 1.5f};
+    EXPECT_TRUE(b.segmentsClear(Vec3f{4, 0, 0}, beside, std::nullopt));
     // An infinite plane between them is never clear; one below both is.
     Scene plane = one;
     plane.planes.push_back(Plane{Vec3f{0, 1, 0}, Vec3f{0, 1, 0}, true, 0});
-    EXPECT_FALSE(ShapeBounds(plane).segmentsClear(Vec3f{4, 0, 0}, ShapeBounds::Targets{Bounds3f{Vec3f{3, 5, -1}, Vec3f{5, 5, 1}}, Vec3f{4, 5, 0}, 1.5f}, std::nullopt));
+    EXPECT_FALSE(ShapeBounds(plane).segmentsClear(Vec3f{4, 0, 0}, beside, std::nullopt));
     Scene below = one;
     below.planes.push_back(Plane{Vec3f{0, -1, 0}, Vec3f{0, 1, 0}, true, 0});
-    EXPECT_TRUE(ShapeBounds(below).segmentsClear(Vec3f{4, 0, 0}, ShapeBounds::Targets{Bounds3f{Vec3f{3, 5, -1}, Vec3f{5, 5, 1}}, Vec3f{4, 5, 0}, 1.5f}, std::nullopt));
+    EXPECT_TRUE(ShapeBounds(below).segmentsClear(Vec3f{4, 0, 0}, beside, std::nullopt));
 }

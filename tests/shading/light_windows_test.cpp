@@ -39,6 +39,15 @@ Material material(float kd, float ks, float exponent, PhongModel model) {
     return m;
 }
 
+// A scene whose material 0 is plain and material 1 a lamp (ke = 1).
+Scene plainAndLamp() {
+    Scene s;
+    Material plain, lamp;
+    lamp.ke = Rgb(1.f);
+    s.materials = {plain, lamp};
+    return s;
+}
+
 }  // namespace
 
 TEST(PhongSampling, PolarCoordinatesDescribeTheDirectionMade) {
@@ -78,10 +87,7 @@ TEST(LightWindows, NeverDropASampleThatMeetsALightAndDropMostOthers) {
     // must be one whose ray (spawnRay, as the integrator's) meets no light
     // in the exact test; a sphere light's bounding sphere is the light
     // itself, so rays grazing it check the cone's width.
-    Scene s;
-    Material plain, lamp;
-    lamp.ke = Rgb(1.f);
-    s.materials = {plain, lamp};
+    Scene s = plainAndLamp();
     s.rectangles.push_back(Rectangle{Vec3f{-0.6f, 0.9f, -0.3f}, Vec3f{0.5f, 0, 0}, Vec3f{0, 0, 0.4f}, 1});
     s.spheres.push_back(Sphere{Vec3f{0.8f, 0.f, 0.1f}, 0.3f, 1});
     s.disks.push_back(Disk{Vec3f{0, -0.8f, 0}, normalize(Vec3f{0.2f, 1, 0.1f}), 0.25f, 1});
@@ -139,10 +145,7 @@ TEST(LightWindows, NeverDropASampleThatMeetsALightAndDropMostOthers) {
 TEST(LightWindows, KeepEverySampleWhereThePointIsInsideALightsBounds) {
     // A point inside a light's bounding sphere (here on the light itself) may
     // see it in any direction: nothing is dropped.
-    Scene s;
-    Material plain, lamp;
-    lamp.ke = Rgb(1.f);
-    s.materials = {plain, lamp};
+    Scene s = plainAndLamp();
     s.rectangles.push_back(Rectangle{Vec3f{-1, 0, -1}, Vec3f{2, 0, 0}, Vec3f{0, 0, 2}, 1});
     const LightSet lights(s);
     const Material m = material(0.f, 0.9f, 5000.f, PhongModel::Normalized);

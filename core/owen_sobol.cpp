@@ -46,7 +46,7 @@ PENUMBRA_LANE_CLONES void OwenSobol2D::samplePointLanes(uint32_t index, uint32_t
             // high | k is that of high xor that of k: one column sum for all
             // lanes, and a constant per lane.
             const uint32_t high = base | (first & low);
-            const uint32_t sobolHigh = detail::sobolSecondReversedByColumns(high);
+            const uint32_t sobolHigh = detail::sobolSecondReversedByShifts(high);
             for (int k = 0; k < kLanes; ++k)
                 shuffledPointFromSobol(high | uint32_t(k), sobolHigh ^ detail::kSobolSecondOfLane.v[k], scrambleX_,
                                        scrambleY_, x[k], y[k]);

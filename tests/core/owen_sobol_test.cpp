@@ -142,16 +142,16 @@ TEST(OwenSobol, ReverseBitsReversesEveryBit) {
     }
 }
 
-TEST(OwenSobol, SecondDimensionByColumnsIsTheTables) {
+TEST(OwenSobol, SecondDimensionByShiftsIsTheTables) {
     // The generator matrix's columns v_0 = 2^31, v_{j+1} = v_j ^ (v_j >> 1), reversed.
     for (uint32_t j = 0; j < 32; ++j)
-        EXPECT_EQ(detail::sobolSecondReversedByColumns(1u << j), detail::sobolSecondReversed(1u << j));
+        EXPECT_EQ(detail::sobolSecondReversedByShifts(1u << j), detail::sobolSecondReversed(1u << j));
     uint64_t state = 7;
     for (int i = 0; i < 10000; ++i) {
         state = mix64(state + 0x9e3779b97f4a7c15ULL);
         const uint32_t x = static_cast<uint32_t>(state);
-        ASSERT_EQ(detail::sobolSecondReversedByColumns(x), detail::sobolSecondReversed(x)) << x;
-        ASSERT_EQ(detail::sobolSecondReversedByColumns(uint32_t(i)), detail::sobolSecondReversed(uint32_t(i))) << i;
+        ASSERT_EQ(detail::sobolSecondReversedByShifts(x), detail::sobolSecondReversed(x)) << x;
+        ASSERT_EQ(detail::sobolSecondReversedByShifts(uint32_t(i)), detail::sobolSecondReversed(uint32_t(i))) << i;
     }
 }
 

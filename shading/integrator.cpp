@@ -329,20 +329,25 @@ constexpr uint32_t kMinWindowedBrdfSamples = 6;
 constexpr float kLargeLightSolidAngle = 1.f;
 
 // Whether a shading point also takes BRDF samples under MIS: where the Phong
-// lobe is glossy, or where some light may subtend a large solid angle (an
-// environment always does); never when the only lights are points and
-// directions, which no ray can hit (the samples would all add nothing). A
-// Lambertian point under small lights gains little over solid-angle light
-// samples (they cover each light uniformly; only the cosine varies, and
-// little over a small light) while a BRDF sample costs a closest-hit ray
-// that mostly misses; under a large light the cosine's variation is what
-// is left, and cosine-weighted BRDF samples remove it.
+// lobe is glossy, or where some light that may subtend a large solid angle
+// may also light the point (an environment always does); never when the only
+// lights are points and directions, which no ray can hit (the samples would
+// all add nothing). A Lambertian point under small lights gains little over
+// solid-angle light samples (they cover each light uniformly; only the cosine
+// varies, and little over a small light) while a BRDF sample costs a
+// closest-hit ray that mostly misses; under a large light the cosine's
+// variation is what is left, and cosine-weighted BRDF samples remove it. A
+// large light that cannot light the point (Light::mayReach: the point behind
+// a one-sided emitter, or the light below its horizon) gives its BRDF samples
+// nothing to find: in room.json the ceiling around the light took 8 BRDF
+// samples per point that all met the light's back, 5% of the render's time.
 [[gnu::always_inline]] inline bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
     if (lights.environment()) return true;          // an environment subtends 4 pi
     if (lights.areaLightCount() == 0) return false;  // point and directional lights: nothing a ray can hit
     if (!Rgb(sp.material->ks).isBlack()) return true;
     for (size_t j = 0; j < lights.areaLightCount(); ++j)
-        if (lights.mayExceedSolidAngle(j, sp.p, kLargeLightSolidAngle)) return true;
+        if (lights.mayExceedSolidAngle(j, sp.p, kLargeLightSolidAngle) && lights[j].mayReach(sp.p, sp.ng))
+            return true;
     return false;
 }
 

@@ -112,6 +112,7 @@ PENUMBRA_LANE_CLONES void Integrator::shade(const Hit& hit, const Ray& ray, floa
     sp.ng = front ? hit.ng : -hit.ng;
     sp.ns = front ? hit.ns : -hit.ns;
     sp.kd = diffuseAlbedo(*sp.material, hit, pathLength, sp.wo);
+    sp.glossy = !Rgb(sp.material->ks).isBlack();
 }
 
 /// A ray one lane still has to trace (the transmitted branch of a dielectric).
@@ -344,7 +345,7 @@ constexpr float kLargeLightSolidAngle = 1.f;
 [[gnu::always_inline]] inline bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
     if (lights.environment()) return true;          // an environment subtends 4 pi
     if (lights.areaLightCount() == 0) return false;  // point and directional lights: nothing a ray can hit
-    if (!Rgb(sp.material->ks).isBlack()) return true;
+    if (sp.glossy) return true;
     for (size_t j = 0; j < lights.areaLightCount(); ++j)
         if (lights.mayExceedSolidAngle(j, sp.p, kLargeLightSolidAngle) && lights[j].mayReach(sp.p, sp.ng))
             return true;

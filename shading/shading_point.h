@@ -16,6 +16,7 @@ struct ShadingPoint {
     Vec3f wo;   // unit direction back along the ray
     Rgb kd;     // diffuse albedo after texturing
     const Material* material = nullptr;
+    bool glossy = false;  // the material has a specular lobe (ks > 0): set by Integrator::shade
 
     /// Whether any light can reach the viewer from here (a black or pure
     /// mirror material needs no light samples).

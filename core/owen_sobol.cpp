@@ -43,7 +43,7 @@ PENUMBRA_LANE_CLONES void OwenSobol2D::samplePointLanes(uint32_t index, uint32_t
         if (low >= uint32_t(kLanes - 1) && first % uint32_t(kLanes) == 0) {
             // The 16 lanes are high | k, k < 16, with high's low four bits clear.
             // Sobol's matrix is linear over GF(2), so the second dimension of
-            // high | k is that of high xor that of k: one column sum for all
+            // high | k is that of high xor that of k: one evaluation for all
             // lanes, and a constant per lane.
             const uint32_t high = base | (first & low);
             const uint32_t sobolHigh = detail::sobolSecondReversedByShifts(high);

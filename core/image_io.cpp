@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/image_encoder_process.h"
 #include "core/oiio_library.h"
+#include "core/srgb8.h"
 
 namespace penumbra {
 namespace fs = std::filesystem;
@@ -29,6 +30,8 @@ std::string lowerExtension(const fs::path& p) {
 [[noreturn]] void writeFailed(const fs::path& path, const std::string& why) {
     throw Error(ErrorCode::IoError, path.string() + ": cannot write image: " + why);
 }
+
+constexpr int kPngZlibLevel = 4;
 
 // libjpeg ends the process (exit) on a dimension it cannot store; refuse first.
 constexpr int kMaxJpegSide = 65500;
@@ -156,13 +159,18 @@ Bytes encodeImage(const fs::path& path, ImageFormat fmt, const Film& film, const
     // IOProxy when it adds an Exif directory (the header then lacks
     // ImageLength); the Exif block only repeated the colour space.
     if (fmt == ImageFormat::Tif) rq.attributes.push_back({"tiff:write_exif", oiio::Attribute::Kind::Int, 0, 0.f, {}});
+    // zlib level 4, not OpenImageIO's 6: the encoding is 2.2-2.6x faster (20 -> 9 ms for a
+    // 512x512 render, all of it after the render) and the file 8-17% larger.
+    if (fmt == ImageFormat::Png)
+        rq.attributes.push_back({"png:compressionLevel", oiio::Attribute::Kind::Int, kPngZlibLevel, 0.f, {}});
     const float scale = std::exp2(options.exposure);
+    const Srgb8 srgb8;
     std::vector<uint8_t> px(size_t(w) * h * 3);
     for (size_t i = 0, n = size_t(w) * h; i < n; ++i) {
         Rgb L = film.radiance(i) * scale;
-        px[3 * i] = uint8_t(std::lround(linearToSrgb(L.r) * 255.f));
-        px[3 * i + 1] = uint8_t(std::lround(linearToSrgb(L.g) * 255.f));
-        px[3 * i + 2] = uint8_t(std::lround(linearToSrgb(L.b) * 255.f));
+        px[3 * i] = srgb8(L.r);
+        px[3 * i + 1] = srgb8(L.g);
+        px[3 * i + 2] = srgb8(L.b);
     }
     rq.pixels = px.data();
     return encodeWithOiio(path, rq, options.encoder);

@@ -1,0 +1,27 @@
+#include "core/srgb8.h"
+
+#include <bit>
+#include <cmath>
+
+#include "core/image_io.h"
+
+namespace penumbra {
+
+uint8_t srgb8Code(float v) { return uint8_t(std::lround(linearToSrgb(v) * 255.f)); }
+
+Srgb8::Srgb8() {
+    // Non-negative floats order as their bit patterns, so bisect on the bits.
+    const uint32_t oneBits = std::bit_cast<uint32_t>(1.f);
+    thresholds_[0] = 0.f;
+    for (unsigned code = 1; code < 256; ++code) {
+        uint32_t lo = 0, hi = oneBits;  // srgb8Code(1) == 255 >= code
+        while (lo < hi) {
+            const uint32_t mid = lo + (hi - lo) / 2;
+            if (srgb8Code(std::bit_cast<float>(mid)) >= code) hi = mid;
+            else lo = mid + 1;
+        }
+        thresholds_[code] = std::bit_cast<float>(lo);
+    }
+}
+
+}  // namespace penumbra

@@ -1,0 +1,63 @@
+#include "core/srgb8.h"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+
+#include "core/image_io.h"
+
+namespace penumbra {
+namespace {
+
+TEST(Srgb8, CodeIsRoundedTransferFunction) {
+    EXPECT_EQ(srgb8Code(0.f), 0);
+    EXPECT_EQ(srgb8Code(1.f), 255);
+    EXPECT_EQ(srgb8Code(0.5f), 188);  // 255 * 0.7354 = 187.5..., rounded
+    EXPECT_EQ(srgb8Code(0.18f), 118);
+}
+
+TEST(Srgb8, ThresholdsAreWhereTheCodesStart) {
+    const Srgb8 srgb8;
+    for (unsigned code = 1; code < 256; ++code) {
+        const float t = srgb8.threshold(code);
+        EXPECT_EQ(srgb8Code(t), code) << code;
+        EXPECT_EQ(srgb8Code(std::nextafter(t, 0.f)), code - 1) << code;
+        EXPECT_EQ(srgb8(t), code) << code;
+        EXPECT_EQ(srgb8(std::nextafter(t, 0.f)), code - 1) << code;
+        if (code > 1) {
+            EXPECT_GT(t, srgb8.threshold(code - 1));
+        }
+    }
+}
+
+TEST(Srgb8, AgreesWithTheDefinitionOnRandomFloats) {
+    const Srgb8 srgb8;
+    std::mt19937 rng(7);
+    // Every float in [0, 1] by its bit pattern (the linear segment included), then beyond.
+    std::uniform_int_distribution<uint32_t> bits(0, std::bit_cast<uint32_t>(1.f));
+    std::uniform_real_distribution<float> wide(-4.f, 64.f);
+    for (int i = 0; i < 1'000'000; ++i) {
+        const float v = std::bit_cast<float>(bits(rng));
+        ASSERT_EQ(srgb8(v), srgb8Code(v)) << v;
+        const float w = wide(rng);
+        ASSERT_EQ(srgb8(w), srgb8Code(w)) << w;
+    }
+}
+
+TEST(Srgb8, OutOfRangeValuesClamp) {
+    const Srgb8 srgb8;
+    EXPECT_EQ(srgb8(-1.f), 0);
+    EXPECT_EQ(srgb8(-0.f), 0);
+    EXPECT_EQ(srgb8(std::numeric_limits<float>::denorm_min()), 0);
+    EXPECT_EQ(srgb8(std::numeric_limits<float>::quiet_NaN()), 0);
+    EXPECT_EQ(srgb8(2.f), 255);
+    EXPECT_EQ(srgb8(std::numeric_limits<float>::infinity()), 255);
+    EXPECT_EQ(srgb8(-std::numeric_limits<float>::infinity()), 0);
+}
+
+}  // namespace
+}  // namespace penumbra

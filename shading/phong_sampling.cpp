@@ -123,17 +123,19 @@ PhongSampler::Polar PhongSampler::polar(Vec2f u) const {
     return {true, ay, (y > 0.f ? 2.f : 6.f) - x / y};
 }
 
-std::pair<float, float> PhongSampler::polarRange(bool diffuse, double minAngle, double maxAngle) const {
-    constexpr double kQuarter = 1.57079632679489661923;  // pi / 2
+std::pair<float, float> PhongSampler::polarRange(bool diffuse, Angle minAngle, Angle maxAngle) const {
     constexpr float kNone = std::numeric_limits<float>::infinity();
-    // Neither lobe samples past a quarter turn from its axis.
-    if (minAngle > kQuarter || maxAngle < 0.0 || minAngle > maxAngle) return {kNone, -kNone};
+    // Neither lobe samples past a quarter turn from its axis: none where
+    // minAngle lies in (pi/2, pi), its cosine below 0.
+    if (minAngle.cos < 0.0) return {kNone, -kNone};
     // The coordinate of angle a, a monotone function on [0, pi/2]; the ends
-    // of the range rounded outwards to floats.
+    // of the range rounded outwards to floats. minAngle <= 0 where its sine
+    // is (in (-pi/2, pi)); maxAngle >= pi/2 where its cosine is <= 0 (in
+    // [0, 3 pi/2)).
     const double e1 = double(m_.exponent) + 1.0;
-    const auto coordinate = [&](double a) { return diffuse ? std::sin(a) : 1.0 - std::pow(std::cos(a), e1); };
-    const float lo = minAngle <= 0.0 ? -kNone : std::nextafter(float(coordinate(minAngle)), -kNone);
-    const float hi = maxAngle >= kQuarter ? kNone : std::nextafter(float(coordinate(maxAngle)), kNone);
+    const auto coordinate = [&](Angle a) { return diffuse ? a.sin : 1.0 - std::pow(a.cos, e1); };
+    const float lo = minAngle.sin <= 0.0 ? -kNone : std::nextafter(float(coordinate(minAngle)), -kNone);
+    const float hi = maxAngle.cos <= 0.0 ? kNone : std::nextafter(float(coordinate(maxAngle)), kNone);
     return {lo, hi};
 }
 

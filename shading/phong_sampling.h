@@ -71,10 +71,16 @@ public:
     /// direction() uses it; only for a lobe u can pick (picks()).
     const Frame& lobeFrame(bool diffuse) const { return diffuse ? diffuse_ : lobe_; }
     bool picks(bool diffuse) const { return diffuse ? pd_ > 0.f : pd_ < 1.f; }
+    /// An angle by its cosine and sine: LightWindows works the cone's bounds
+    /// out from the light's without a trigonometric call.
+    struct Angle {
+        double cos, sin;
+    };
     /// The closed range [lo, hi] of polar coordinates of a lobe whose exact
     /// directions (without rounding) make an angle in [minAngle, maxAngle]
-    /// radians with its axis; lo > hi where there are none.
-    std::pair<float, float> polarRange(bool diffuse, double minAngle, double maxAngle) const;
+    /// with its axis, for minAngle in (-pi/2, pi) and maxAngle in
+    /// [max(0, minAngle), 3 pi/2); lo > hi where there are none.
+    std::pair<float, float> polarRange(bool diffuse, Angle minAngle, Angle maxAngle) const;
 
 private:
     const Material& m_;

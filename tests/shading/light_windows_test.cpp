@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/multi_jitter.h"
@@ -152,4 +153,40 @@ TEST(LightWindows, KeepEverySampleWhereThePointIsInsideALightsBounds) {
     const PhongSampler sampler(m, m.kd, Vec3f{0, 1, 0}, normalize(Vec3f{1, 1, 0}));
     const LightWindows windows(sampler, lights, Vec3f{0.5f, 0.f, 0.2f});
     for (uint32_t k = 0; k < 1024; ++k) EXPECT_TRUE(windows.mayReachALight(multiJitter2D(k, 1024, 3)));
+}
+
+TEST(PhongSampling, PolarRangeOfAnglesGivenByCosineAndSine) {
+    // The range must hold the exact coordinates of both ends (rounded
+    // outwards, by at most a few floats), be empty past a quarter turn and
+    // open-ended at the axis and at a quarter turn.
+    const Vec3f n{0, 0, 1}, wo = normalize(Vec3f{0.3f, 0.1f, 1.f});
+    const auto at = [](double a) { return PhongSampler::Angle{std::cos(a), std::sin(a)}; };
+    Rng rng{99};
+    for (const float e : {1.f, 40.f, 5000.f}) {
+        const Material m = material(0.5f, 0.3f, e, PhongModel::Classic);
+        const PhongSampler sampler(m, m.kd, n, wo);
+        for (const bool diffuse : {false, true}) {
+            const auto exact = [&](double a) { return diffuse ? std::sin(a) : 1.0 - std::pow(std::cos(a), double(e) + 1.0); };
+            for (int k = 0; k < 2000; ++k) {
+                const double lo = 1.5 * double(rng.next()), hi = lo + 0.06 * double(rng.next());
+                const auto [l, h] = sampler.polarRange(diffuse, at(lo), at(hi));
+                ASSERT_LE(double(l), exact(lo)) << e << " " << lo;
+                EXPECT_NEAR(double(l), exact(lo), 1e-6);
+                if (hi >= kPi / 2.0) {
+                    EXPECT_EQ(h, std::numeric_limits<float>::infinity());
+                } else {
+                    ASSERT_GE(double(h), exact(hi)) << e << " " << hi;
+                    EXPECT_NEAR(double(h), exact(hi), 1e-6);
+                }
+            }
+            const auto [l0, h0] = sampler.polarRange(diffuse, at(-0.2), at(0.3));  // the axis inside
+            EXPECT_EQ(l0, -std::numeric_limits<float>::infinity());
+            EXPECT_NEAR(double(h0), exact(0.3), 1e-6);
+            const auto [l1, h1] = sampler.polarRange(diffuse, at(1.2), at(2.0));  // past a quarter turn
+            EXPECT_NEAR(double(l1), exact(1.2), 1e-6);
+            EXPECT_EQ(h1, std::numeric_limits<float>::infinity());
+            const auto [l2, h2] = sampler.polarRange(diffuse, at(1.7), at(2.5));  // beyond the lobe
+            EXPECT_GT(l2, h2);
+        }
+    }
 }

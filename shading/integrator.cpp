@@ -584,13 +584,19 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
             const PhongSampler sampler(*sp.material, sp.kd, sp.ns, sp.wo);
             std::optional<LightWindows> windows;
             if (windowed) windows.emplace(sampler, lights_, sp.p);
-            for (uint32_t k0 = 0; k0 < nBrdf; k0 += kSampleChunk) {
-                const uint32_t m = std::min(nBrdf - k0, kSampleChunk);
-                ScratchArray<Vec2f, kSampleChunk> u;
-                seq.samplePoints(lane.key.index, nBrdf, k0, m, u.data());
+            // 16 points at a time as lanes (OwenSobol2D::samplePointLanes), the same points as samplePoints.
+            constexpr uint32_t W = uint32_t(OwenSobol2D::kLanes);
+            static_assert(int(W) == LightWindows::kLanes);
+            for (uint32_t k0 = 0; k0 < nBrdf; k0 += W) {
+                const uint32_t m = std::min(nBrdf - k0, W);
+                alignas(64) float ux[W], uy[W];
+                seq.samplePointLanes(lane.key.index, nBrdf, k0, ux, uy);
+                alignas(64) int32_t may[W];
+                if (windows) windows->mayReachLanes(ux, uy, may);
                 for (uint32_t k = 0; k < m; ++k) {
-                    if (windows && !windows->mayReachALight(u[k])) continue;
-                    if (const std::optional<Vec3f> wi = sampler.direction(u[k])) brdfQueue.add(lit[q], sp, sampler, *wi);
+                    if (windows && !may[k]) continue;
+                    if (const std::optional<Vec3f> wi = sampler.direction(Vec2f{ux[k], uy[k]}))
+                        brdfQueue.add(lit[q], sp, sampler, *wi);
                 }
             }
         }

@@ -21,8 +21,10 @@
 // test (LightSet::firstEmitterHit) finds meeting no light.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "core/math.h"
 #include "lights/light_set.h"
@@ -52,6 +54,11 @@ public:
         return in;
     }
 
+    /// mayReachALight of 16 points as lanes: may[c] for (x[c], y[c]), the
+    /// same answers, as loops over the lanes.
+    static constexpr int kLanes = PhongSampler::kLanes;
+    void mayReachLanes(const float (&x)[kLanes], const float (&y)[kLanes], int32_t (&may)[kLanes]) const;
+
     /// The margin added to each cone's half-angle, radians.
     static constexpr double kAngleMargin = 2e-3;
 
@@ -67,5 +74,31 @@ private:
     };
     Windows windows_[2];  // [0] the cos^e lobe, [1] the diffuse one
 };
+
+// Inline so that it compiles into the caller's lane clones (core/lane_clones.h).
+[[gnu::always_inline]] inline void LightWindows::mayReachLanes(const float (&x)[kLanes], const float (&y)[kLanes],
+                                                               int32_t (&may)[kLanes]) const {
+    for (int c = 0; c < kLanes; ++c) may[c] = everywhere_;
+    if (everywhere_) return;
+    alignas(64) int32_t diffuse[kLanes];
+    alignas(64) float s[kLanes], azimuth[kLanes];
+    sampler_.polarLanes(x, y, diffuse, s, azimuth);
+    const Windows &lobe = windows_[0], &disk = windows_[1];
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    for (uint32_t k = 0; k < std::max(lobe.count, disk.count); ++k) {
+        // Window k of each lobe; an empty one where that lobe has fewer.
+        const bool inLobe = k < lobe.count, inDisk = k < disk.count;
+        const float lo0 = inLobe ? lobe.lo[k] : kInf, hi0 = inLobe ? lobe.hi[k] : -kInf;
+        const float lo1 = inDisk ? disk.lo[k] : kInf, hi1 = inDisk ? disk.hi[k] : -kInf;
+        const float az0 = inLobe ? lobe.azimuth[k] : 0.f, az1 = inDisk ? disk.azimuth[k] : 0.f;
+        const float half0 = inLobe ? lobe.halfWidth[k] : 0.f, half1 = inDisk ? disk.halfWidth[k] : 0.f;
+        for (int c = 0; c < kLanes; ++c) {
+            const bool d = diffuse[c] != 0;
+            float turn = azimuth[c] - (d ? az1 : az0);
+            turn -= 8.f * std::floor((turn + 4.f) * 0.125f);
+            may[c] |= int32_t(s[c] >= (d ? lo1 : lo0) && s[c] <= (d ? hi1 : hi0) && std::fabs(turn) <= (d ? half1 : half0));
+        }
+    }
+}
 
 }  // namespace penumbra

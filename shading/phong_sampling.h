@@ -11,6 +11,8 @@
 // but f = 0: sampling them is a wasted sample, which the pdf accounts for.
 #pragma once
 
+#include <cmath>
+#include <cstdint>
 #include <optional>
 #include <utility>
 
@@ -66,6 +68,11 @@ public:
         float s, azimuth;
     };
     Polar polar(Vec2f u) const;
+    /// polar() of 16 points as lanes: the same values, as one loop without
+    /// branches (LightWindows::mayReachLanes).
+    static constexpr int kLanes = 16;
+    void polarLanes(const float (&ux)[kLanes], const float (&uy)[kLanes], int32_t (&diffuse)[kLanes],
+                    float (&s)[kLanes], float (&azimuth)[kLanes]) const;
     /// The frame whose n is the axis of the diffuse lobe (the shading
     /// normal) or of the cos^e lobe (the mirror direction of wo), as
     /// direction() uses it; only for a lobe u can pick (picks()).
@@ -89,6 +96,28 @@ private:
     float pd_;
     Frame diffuse_, lobe_;  // where the lobe can be picked (pd > 0, pd < 1)
 };
+
+// Inline so that it compiles into the caller's lane clones (core/lane_clones.h).
+[[gnu::always_inline]] inline void PhongSampler::polarLanes(const float (&ux)[kLanes], const float (&uy)[kLanes],
+                                                            int32_t (&diffuse)[kLanes], float (&s)[kLanes],
+                                                            float (&azimuth)[kLanes]) const {
+    const float pd = pd_;
+    for (int c = 0; c < kLanes; ++c) {
+        // pickLobe, both ways, then the one picked (std::min's operand order).
+        const bool d = ux[c] < pd;
+        const float v = d ? ux[c] / pd : (ux[c] - pd) / (1.f - pd);
+        const float vx = 0x1.fffffep-1f < v ? 0x1.fffffep-1f : v, vy = uy[c];
+        // The concentric disk's radius and angle (polar()); |x| = |y| = 0 is the centre.
+        const float x = 2.f * vx - 1.f, y = 2.f * vy - 1.f;
+        const float ax = std::fabs(x), ay = std::fabs(y);
+        const bool xMajor = ax > ay;
+        const float alongX = (x > 0.f ? 0.f : 4.f) + y / x, alongY = (y > 0.f ? 2.f : 6.f) - x / y;
+        const float diskAzimuth = xMajor ? alongX : (ay == 0.f ? 0.f : alongY);
+        diffuse[c] = d;
+        s[c] = d ? (xMajor ? ax : ay) : vx;
+        azimuth[c] = d ? diskAzimuth : 8.f * vy;
+    }
+}
 
 /// Solid-angle pdf with which samplePhong returns wi (for MIS weights).
 float phongPdf(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi);

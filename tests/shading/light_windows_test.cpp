@@ -5,6 +5,7 @@
 // that direction() then makes.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -135,6 +136,25 @@ TEST(LightWindows, NeverDropASampleThatMeetsALightAndDropMostOthers) {
             ASSERT_TRUE(may || !e) << "point " << point << ", sample " << k << " meets light " << e->light
                                    << " but was dropped";
             (may ? kept : dropped) += 1;
+        }
+        // The lanes' answers are the scalar ones, and so are their polar coordinates.
+        for (int k = 0; k < 64; ++k) {
+            alignas(64) float x[16], y[16], s[16], azimuth[16];
+            alignas(64) int32_t may[16], diffuse[16];
+            for (int c = 0; c < 16; ++c) {
+                const Vec2f u = rng.next2();
+                x[c] = u.x;
+                y[c] = u.y;
+            }
+            windows.mayReachLanes(x, y, may);
+            sampler.polarLanes(x, y, diffuse, s, azimuth);
+            for (int c = 0; c < 16; ++c) {
+                ASSERT_EQ(may[c] != 0, windows.mayReachALight({x[c], y[c]})) << point << " " << k << " " << c;
+                const PhongSampler::Polar p1 = sampler.polar({x[c], y[c]});
+                ASSERT_EQ(diffuse[c] != 0, p1.diffuse);
+                ASSERT_EQ(std::bit_cast<uint32_t>(s[c]), std::bit_cast<uint32_t>(p1.s));
+                ASSERT_EQ(std::bit_cast<uint32_t>(azimuth[c]), std::bit_cast<uint32_t>(p1.azimuth));
+            }
         }
     }
     EXPECT_GT(meeting, 20000);

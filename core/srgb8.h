@@ -15,8 +15,8 @@ uint8_t srgb8Code(float v);
 /// 25 ns each, 7 ms of a 512x512 image written after the render). The codes
 /// are srgb8Code's bit for bit: each threshold is the smallest float with the
 /// next code, found by bisection over the floats with srgb8Code itself, which
-/// is non-decreasing (checked over every float in [0, 1]). NaN and negative
-/// values give 0, as the clamp gives.
+/// is non-decreasing (checked over every float in [0, 1]). Negative values
+/// and NaN give 0, values above 1 give 255.
 class Srgb8 {
 public:
     Srgb8();

@@ -96,7 +96,8 @@ private:
             const bool d = diffuse[c] != 0;
             float turn = azimuth[c] - (d ? az1 : az0);
             turn -= 8.f * std::floor((turn + 4.f) * 0.125f);
-            may[c] |= int32_t(s[c] >= (d ? lo1 : lo0) && s[c] <= (d ? hi1 : hi0) && std::fabs(turn) <= (d ? half1 : half0));
+            const bool inPolar = s[c] >= (d ? lo1 : lo0) && s[c] <= (d ? hi1 : hi0);
+            may[c] |= int32_t(inPolar && std::fabs(turn) <= (d ? half1 : half0));
         }
     }
 }

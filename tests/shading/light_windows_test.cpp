@@ -186,7 +186,9 @@ TEST(PhongSampling, PolarRangeOfAnglesGivenByCosineAndSine) {
         const Material m = material(0.5f, 0.3f, e, PhongModel::Classic);
         const PhongSampler sampler(m, m.kd, n, wo);
         for (const bool diffuse : {false, true}) {
-            const auto exact = [&](double a) { return diffuse ? std::sin(a) : 1.0 - std::pow(std::cos(a), double(e) + 1.0); };
+            const auto exact = [&](double a) {
+                return diffuse ? std::sin(a) : 1.0 - std::pow(std::cos(a), double(e) + 1.0);
+            };
             for (int k = 0; k < 2000; ++k) {
                 const double lo = 1.5 * double(rng.next()), hi = lo + 0.06 * double(rng.next());
                 const auto [l, h] = sampler.polarRange(diffuse, at(lo), at(hi));

@@ -323,7 +323,9 @@ constexpr uint32_t kSampleChunk = 64;
 // glossy sphere), 1 thread, rendered without windows in this share of the
 // time with them: 0.946 with 1 BRDF sample per point, 0.968 with 2, 0.981
 // with 3, 1.00 with 4 to 6, 1.02 with 8 (--spp 16 each) and 1.09 with 32
-// (--spp 1).
+// (--spp 1). (Measured before the windows lost most of their trigonometric
+// calls and were tested as lanes, 20b8c83 and 66739f8: the break-even may
+// now lie lower.)
 constexpr uint32_t kMinWindowedBrdfSamples = 6;
 
 // Solid angle (sr) from which a light counts as large for a Lambertian point.
@@ -571,8 +573,9 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
         // Where only the lights' own surfaces count (no environment) and they
         // are few, samples that can meet no light are dropped before their
         // direction is made: they would add nothing and trace no ray. The
-        // windows cost a few inverse trigonometric functions per shading
-        // point, so only where enough samples share them.
+        // windows cost, per shading point and light, an asin and an atan2
+        // per lobe and two pows for the cos^e lobe, so only where enough
+        // samples share them.
         const bool windowed =
             nBrdf >= kMinWindowedBrdfSamples && lights_.emittersTestable() && !lights_.environment();
         const uint32_t dim = dimBase + uint32_t(nLights) + 1;

@@ -331,27 +331,52 @@ constexpr uint32_t kMinWindowedBrdfSamples = 6;
 // Solid angle (sr) from which a light counts as large for a Lambertian point.
 constexpr float kLargeLightSolidAngle = 1.f;
 
-// Whether a shading point also takes BRDF samples under MIS: where the Phong
-// lobe is glossy, or where some light that may subtend a large solid angle
-// may also light the point (an environment always does); never when the only
-// lights are points and directions, which no ray can hit (the samples would
-// all add nothing). A Lambertian point under small lights gains little over
-// solid-angle light samples (they cover each light uniformly; only the cosine
-// varies, and little over a small light) while a BRDF sample costs a
-// closest-hit ray that mostly misses; under a large light the cosine's
-// variation is what is left, and cosine-weighted BRDF samples remove it. A
-// large light that cannot light the point (Light::mayReach: the point behind
-// a one-sided emitter, or the light below its horizon) gives its BRDF samples
-// nothing to find: in room.json the ceiling around the light took 8 BRDF
-// samples per point that all met the light's back, 5% of the render's time.
+// Whether some area light may subtend more than omega at sp and may light it.
+[[gnu::always_inline]] inline bool mayMeetLargeLight(const ShadingPoint& sp, const LightSet& lights, float omega) {
+    for (size_t j = 0; j < lights.areaLightCount(); ++j)
+        if (lights.mayExceedSolidAngle(j, sp.p, omega) && lights[j].mayReach(sp.p, sp.ng)) return true;
+    return false;
+}
+
+// takesBrdfSamples for a Phong point; out of line, so that the Lambertian
+// points' code (the textbook scenes' hot path) stays as it was.
+[[gnu::noinline]] bool glossyTakesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
+    const float pd = phongDiffuseProbability(*sp.material, sp.kd);
+    const float piPeak = pd + (1.f - pd) * 0.5f * (sp.material->exponent + 1.f);  // pi times the pdf's peak
+    return mayMeetLargeLight(sp, lights, kLargeLightSolidAngle / piPeak);
+}
+
+// Whether a shading point also takes BRDF samples under MIS: where some light
+// that may subtend a large solid angle, for the point's BRDF, may also light
+// the point (an environment always does); never when the only lights are
+// points and directions, which no ray can hit (the samples would all add
+// nothing).
+//
+// Large is measured against the peak of the BRDF's sampling pdf. A light of
+// solid angle omega sampled uniformly over it has a pdf near 1/omega; where
+// 1/omega exceeds pi times the BRDF pdf's maximum, the power heuristic gives
+// the BRDF samples that meet the light at most 1/(1 + pi^2) of the weight
+// (under 2.5% from two light samples per point on, as their counts enter
+// squared), so the estimate is the light samples' with or without them, and
+// a BRDF sample costs a direction, a test against the emitters and mostly
+// nothing found. A Lambertian point's pdf peaks at 1/pi: a large light is one
+// of kLargeLightSolidAngle. A Phong point's peaks at pd/pi + (1 - pd)(e+1)/(2 pi)
+// (the cosine lobe's peak and the cos^e lobe's, weighed by how often each is
+// picked): the sharper its lobe, the smaller the lights for which BRDF samples
+// pay. Under a large light the BRDF's variation over it is what is left, and
+// BRDF samples remove it. A large light that cannot light the point
+// (Light::mayReach: the point behind a one-sided emitter, or the light below
+// its horizon) gives its BRDF samples nothing to find: in room.json the
+// ceiling around the light took 8 BRDF samples per point that all met the
+// light's back, 5% of the render's time. (Phong points took BRDF samples
+// whatever the lights before this rule: in penumbra-bench's 10^4-triangle
+// sphere frame, under a small square lamp, 123 of them met it, and they took
+// 12% of the frame's time. docs/rendering.md has the noise measured.)
 [[gnu::always_inline]] inline bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
     if (lights.environment()) return true;          // an environment subtends 4 pi
     if (lights.areaLightCount() == 0) return false;  // point and directional lights: nothing a ray can hit
-    if (sp.glossy) return true;
-    for (size_t j = 0; j < lights.areaLightCount(); ++j)
-        if (lights.mayExceedSolidAngle(j, sp.p, kLargeLightSolidAngle) && lights[j].mayReach(sp.p, sp.ng))
-            return true;
-    return false;
+    if (sp.glossy) return glossyTakesBrdfSamples(sp, lights);
+    return mayMeetLargeLight(sp, lights, kLargeLightSolidAngle);
 }
 
 constexpr int kLaneWidth = ShadowLanes::kWidth;

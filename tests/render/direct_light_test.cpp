@@ -232,4 +232,44 @@ TEST_P(DirectLight, MisLowersTheNoiseOfASharpHighlightOfALargeLight) {
     EXPECT_LT(mis.sd, 0.5 * light.sd) << "mis sd " << mis.sd << ", light-only sd " << light.sd;
 }
 
+TEST_P(DirectLight, GlossyPointsTakeBrdfSamplesOnlyUnderALightLargeForTheirLobe) {
+    // A glossy floor seen so that it mirrors a small lamp 4 above it (0.2 x 0.2:
+    // about 0.003 sr). For a cos^40 lobe the lamp is small (the lobe's pdf
+    // peaks near 4 per sr): MIS takes no BRDF samples and its estimate is the
+    // light samples' alone, bit for bit. For a cos^4000 lobe it is large, and
+    // the BRDF samples find it.
+    for (float exponent : {40.f, 4000.f}) {
+        Scene s;
+        Material g;
+        g.kd = Rgb(0.3f);
+        g.ks = Rgb(0.5f);
+        g.exponent = exponent;
+        const uint32_t gm = addMaterial(s, g);
+        const uint32_t lm = addMaterial(s, emitter(100.f));
+        s.planes.push_back(Plane{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, true, gm});
+        s.rectangles.push_back(Rectangle{Vec3f{0.9f, 4, -0.1f}, Vec3f{0.2f, 0, 0}, Vec3f{0, 0, 0.2f}, lm});
+        PreparedScene ps(std::move(s), prep(), quietLogger());
+        // From (-1, 1, 0) to the origin: the mirror direction points at the lamp's centre (1, 4, 0).
+        const Ray ray{Vec3f{-0.25f, 1.f, 0.f}, normalize(Vec3f{0.25f, -1.f, 0.f}), 0.f, kInfinity};
+        uint64_t brdfRays = 0;
+        for (uint32_t i = 0; i < 32; ++i) {
+            RenderSettings st;
+            st.lightSamples = 4;
+            st.directLight = DirectLightSampling::Mis;
+            Integrator mis(ps.scene(), ps.accelerator(), ps.lights(), ps.textures(), st);
+            RayCounts counts;
+            const Rgb both = mis.Li(ray, SampleKey{pixelSampleKey(7, 3), i}, counts, nullptr);
+            brdfRays += counts.brdf;
+            if (exponent == 40.f) {
+                EXPECT_EQ(both.g, radianceAlong(ps, ray, 4, DirectLightSampling::Light, i).g) << "camera sample " << i;
+            }
+        }
+        if (exponent == 40.f) {
+            EXPECT_EQ(brdfRays, 0u);
+        } else {
+            EXPECT_GT(brdfRays, 0u);
+        }
+    }
+}
+
 PENUMBRA_FOR_BOTH_ACCELERATORS(DirectLight);

@@ -1,5 +1,7 @@
 #include "core/instance.h"
 
+#include "core/shapes.h"
+
 namespace penumbra {
 
 size_t Prototype::triangleCount() const {
@@ -10,8 +12,7 @@ size_t Prototype::triangleCount() const {
 
 Bounds3f Prototype::bounds() const {
     Bounds3f b;
-    for (const TriangleMesh& m : meshes)
-        for (uint32_t i : m.indices) b.extend(m.positions[i]);
+    for (const TriangleMesh& m : meshes) b.extend(penumbra::bounds(m));
     return b;
 }
 

@@ -213,8 +213,7 @@ Bounds3f Scene::bounds() const {
     for (const auto& s : boxes) b.extend(penumbra::bounds(s));
     for (const auto& s : rectangles) b.extend(penumbra::bounds(s));
     for (const auto& s : disks) b.extend(penumbra::bounds(s));
-    for (const auto& m : meshes)
-        for (uint32_t i : m.indices) b.extend(m.positions[i]);
+    for (const auto& m : meshes) b.extend(penumbra::bounds(m));
     for (const auto& in : instances)
         if (in.prototype < prototypes.size()) b.extend(instanceBounds(prototypes[in.prototype], in));
     return b;

@@ -208,6 +208,12 @@ void completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v, 
     h.material = m.materialOf(tri);
 }
 
+Bounds3f bounds(const TriangleMesh& m) {
+    Bounds3f b;
+    for (uint32_t i : m.indices) b.extend(m.positions[i]);
+    return b;
+}
+
 Bounds3f bounds(const Sphere& s) {
     Bounds3f b;
     b.extend(s.center - Vec3f(s.radius));

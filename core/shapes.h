@@ -170,6 +170,8 @@ Bounds3f bounds(const Sphere& s);
 Bounds3f bounds(const Box& b);
 Bounds3f bounds(const Rectangle& q);
 Bounds3f bounds(const Disk& d);
+/// Of the vertices the triangles use (a mesh may hold others).
+Bounds3f bounds(const TriangleMesh& m);
 
 float area(const Sphere& s);
 float area(const Rectangle& q);

@@ -25,11 +25,11 @@ Rgb escapedRadiance(const Scene& scene, const LightSet& lights, const Vec3f& dir
 
 Integrator::Integrator(const Scene& scene, const Accelerator& accel, const LightSet& lights,
                        const TextureCache* textures, const RenderSettings& settings)
-    : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings), shapeBounds_(scene) {
+    : scene_(scene), accel_(accel), lights_(lights), textures_(textures), settings_(settings) {
     for (const Material& m : scene.materials) continues_ |= m.isMirror() || m.isDielectric();
     continues_ &= settings.maxDepth > 0;
     clearTargets_.resize(lights.size());
-    if (!shapeBounds_.available()) return;
+    if (!accel.shapeBounds().available()) return;
     for (size_t j = 0; j < lights.areaLightCount(); ++j) {
         const std::span<const PrimRef> prims = lights.emitterPrims(j);
         if (prims.size() != 1) continue;
@@ -73,7 +73,7 @@ bool Integrator::shadowsClear(size_t j, const Vec3f& p, const Vec3f& ng) const {
     const Vec3f o = p + ng * rayOffsetScale(p);
     // The origin clearly off the light's plane: no segment runs along the light.
     if (!(std::fabs(dot(o - t.planePoint, t.planeNormal)) > 1e-4f * std::max(1.f, maxAbsComponent(o)))) return false;
-    return shapeBounds_.segmentsClear(o, t.targets, t.self);
+    return accel_.shapeBounds().segmentsClear(o, t.targets, t.self);
 }
 
 Rgb Integrator::diffuseAlbedo(const Material& m, const Hit& hit, float pathLength, const Vec3f& wo) const {

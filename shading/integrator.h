@@ -139,7 +139,6 @@ private:
     const LightSet& lights_;
     const TextureCache* textures_;
     RenderSettings settings_;
-    ShapeBounds shapeBounds_;
     // Per light, where it is one rectangle or disk: the box its samples lie
     // in (padded), the primitive and its plane.
     struct ClearTarget {

@@ -228,8 +228,8 @@ void printReport(std::FILE* out, const std::vector<SceneResult>& results, const 
                  "  frame/q = frame time / (sum over the frame's rays of 1 / pure query rate of its kind: raw Embree's, or "
                  "where the scene has analytic shapes the\n  renderer's single-ray intersectPrim/occluded; reflection, "
                  "transmission and BRDF-sampled rays at the incoherent rate), %d threads; "
-                 "renderNT = frame throughput %dT / 1T;\n  build = renderer BVH build (own device included) / raw "
-                 "scene build (device excluded)\n",
+                 "renderNT = frame throughput %dT / 1T;\n  build = renderer BVH build (own device and shape bounds "
+                 "included) / raw scene build (device excluded)\n",
                  T, T);
 
     bool anyPackets = false;

@@ -20,7 +20,8 @@ ShapeBounds::ShapeBounds(const Scene& scene) {
     for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
         addBox(bounds(scene.rectangles[i]), PrimRef{ShapeKind::Rectangle, i, 0, 0});
     for (uint32_t i = 0; i < scene.disks.size(); ++i) addBox(bounds(scene.disks[i]), PrimRef{ShapeKind::Disk, i, 0, 0});
-    for (uint32_t i = 0; i < scene.meshes.size(); ++i) addBox(bounds(scene.meshes[i]), PrimRef{ShapeKind::Mesh, i, 0, 0});
+    for (uint32_t i = 0; i < scene.meshes.size(); ++i)
+        addBox(bounds(scene.meshes[i]), PrimRef{ShapeKind::Mesh, i, 0, 0});
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& in = scene.instances[i];
         if (in.prototype < scene.prototypes.size())

@@ -234,10 +234,11 @@ TEST_P(DirectLight, MisLowersTheNoiseOfASharpHighlightOfALargeLight) {
 
 TEST_P(DirectLight, GlossyPointsTakeBrdfSamplesOnlyUnderALightLargeForTheirLobe) {
     // A glossy floor seen so that it mirrors a small lamp 4 above it (0.2 x 0.2:
-    // about 0.003 sr). For a cos^40 lobe the lamp is small (the lobe's pdf
-    // peaks near 4 per sr): MIS takes no BRDF samples and its estimate is the
-    // light samples' alone, bit for bit. For a cos^4000 lobe it is large, and
-    // the BRDF samples find it.
+    // about 0.002 sr). For a cos^40 lobe the lamp is small (the sampling pdf
+    // peaks near 4 per sr: large lights subtend more than 0.08 sr): MIS takes
+    // no BRDF samples and its estimate is the light samples' alone, bit for
+    // bit. For a cos^4000 lobe it is large (above 0.0008 sr), and the BRDF
+    // samples find it.
     for (float exponent : {40.f, 4000.f}) {
         Scene s;
         Material g;
@@ -249,7 +250,7 @@ TEST_P(DirectLight, GlossyPointsTakeBrdfSamplesOnlyUnderALightLargeForTheirLobe)
         s.planes.push_back(Plane{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, true, gm});
         s.rectangles.push_back(Rectangle{Vec3f{0.9f, 4, -0.1f}, Vec3f{0.2f, 0, 0}, Vec3f{0, 0, 0.2f}, lm});
         PreparedScene ps(std::move(s), prep(), quietLogger());
-        // From (-1, 1, 0) to the origin: the mirror direction points at the lamp's centre (1, 4, 0).
+        // From (-0.25, 1, 0) to the origin: the mirror direction points at the lamp's centre (1, 4, 0).
         const Ray ray{Vec3f{-0.25f, 1.f, 0.f}, normalize(Vec3f{0.25f, -1.f, 0.f}), 0.f, kInfinity};
         uint64_t brdfRays = 0;
         for (uint32_t i = 0; i < 32; ++i) {

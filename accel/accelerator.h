@@ -81,17 +81,18 @@ public:
     /// Closest hits of the rays of the active lanes (RayLanes::active), as
     /// intersect() finds them, into the first out.size() (at most 16)
     /// elements; nullopt for idle lanes. Embree takes the lanes' arrays as a
-    /// 16-wide packet as they are: the renderer's camera rays.
-    void intersectLanes(const RayLanes& rays, std::span<std::optional<Hit>> out) const {
+    /// 16-wide packet as they are: the renderer's camera rays. The rays are
+    /// also written one by one into rayOut (out.size() of them), the form the
+    /// integrators keep: the hits' completion needs that form too.
+    void intersectLanes(const RayLanes& rays, std::span<std::optional<Hit>> out, Ray* rayOut) const {
         EmptyOptionals<PrimIntersection, RayLanes::kWidth> thin;
         intersectPrimLanes(rays, thin.data());
         // Every lane's Ray is written before the first hit is completed: a Ray
         // written just before the call that reads it stalled the reads (the
         // profile's hot loads were the Ray's; store forwarding, presumably):
         // textbook_fig18_04.json renders 1.15x as fast this way.
-        Ray ray[RayLanes::kWidth];
-        for (size_t l = 0; l < out.size(); ++l) ray[l] = rays.ray(int(l));
-        for (size_t l = 0; l < out.size(); ++l) completeThin(ray[l], thin[l], out[l]);
+        for (size_t l = 0; l < out.size(); ++l) rayOut[l] = rays.ray(int(l));
+        for (size_t l = 0; l < out.size(); ++l) completeThin(rayOut[l], thin[l], out[l]);
     }
     /// intersectPrim() for each active lane's ray, nullopt for idle lanes (all 16 written).
     virtual void intersectPrimLanes(const RayLanes& rays, std::optional<PrimIntersection>* out) const {

@@ -19,6 +19,8 @@ struct Material : pnb::Material {
 
     bool isEmissive() const { return Rgb(ke).maxComponent() > 0.f; }
     bool isMirror() const { return Rgb(kr).maxComponent() > 0.f; }
+    /// Has a Phong lobe (ks > 0): its response needs more than the diffuse term.
+    bool isGlossy() const { return Rgb(ks).maxComponent() > 0.f; }
     /// Smooth glass: Fresnel reflection and refraction (shading/dielectric.h); kr is not used then.
     bool isDielectric() const { return Rgb(kt).maxComponent() > 0.f; }
 };

@@ -11,6 +11,7 @@
 #include "core/rgb_image.h"
 #include "core/scene.h"
 #include "lights/light.h"
+#include "lights/light_lanes.h"
 #include "lights/spherical_cap.h"
 
 namespace penumbra {
@@ -67,6 +68,18 @@ public:
     bool mayExceedSolidAngle(size_t i, const Vec3f& p, float omega) const {
         const BoundingSphere& b = bounds_[i];
         return b.radius2 >= 0.f && subtendsAtLeast(b.center, b.radius2, p, omega);
+    }
+    /// mayExceedSolidAngle at the first n points of `at`, lane l's against
+    /// omega[l], into exceed[l] (1 or 0); returns whether any lane's does.
+    bool mayExceedSolidAngleLanes(size_t i, const LanePoints& at, const float* omega, int n, int32_t* exceed) const {
+        const BoundingSphere& b = bounds_[i];
+        if (!(b.radius2 >= 0.f)) return false;
+        int32_t any = 0;
+        for (int l = 0; l < n; ++l) {
+            exceed[l] = subtendsAtLeast(b.center, b.radius2, at.p(l), omega[l]);
+            any |= exceed[l];
+        }
+        return any != 0;
     }
 
     /// A sphere holding every primitive of area light i (its squared

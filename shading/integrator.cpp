@@ -112,7 +112,7 @@ PENUMBRA_LANE_CLONES void Integrator::shade(const Hit& hit, const Ray& ray, floa
     sp.ng = front ? hit.ng : -hit.ng;
     sp.ns = front ? hit.ns : -hit.ns;
     sp.kd = diffuseAlbedo(*sp.material, hit, pathLength, sp.wo);
-    sp.glossy = !Rgb(sp.material->ks).isBlack();
+    sp.glossy = sp.material->isGlossy();
 }
 
 /// A ray one lane still has to trace (the transmitted branch of a dielectric).
@@ -331,26 +331,26 @@ constexpr uint32_t kMinWindowedBrdfSamples = 6;
 // Solid angle (sr) from which a light counts as large for a Lambertian point.
 constexpr float kLargeLightSolidAngle = 1.f;
 
-// Whether some area light may subtend more than omega at sp and may light it.
-[[gnu::always_inline]] inline bool mayMeetLargeLight(const ShadingPoint& sp, const LightSet& lights, float omega) {
-    for (size_t j = 0; j < lights.areaLightCount(); ++j)
-        if (lights.mayExceedSolidAngle(j, sp.p, omega) && lights[j].mayReach(sp.p, sp.ng)) return true;
-    return false;
-}
+constexpr int kLaneWidth = ShadowLanes::kWidth;
+static_assert(kLaneWidth == OwenSobol2D::kLanes && kLaneWidth == LightLanes::kWidth);
 
-// takesBrdfSamples for a Phong point; out of line, so that the Lambertian
-// points' code (the textbook scenes' hot path) stays as it was.
-[[gnu::noinline]] bool glossyTakesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
+// The solid angle (sr) from which a light counts as large for a Phong point
+// (takesBrdfSamples); out of line, so that the Lambertian points' code (the
+// textbook scenes' hot path) stays as it was.
+[[gnu::noinline]] float glossyLargeLightSolidAngle(const ShadingPoint& sp) {
     const float pd = phongDiffuseProbability(*sp.material, sp.kd);
     const float piPeak = pd + (1.f - pd) * 0.5f * (sp.material->exponent + 1.f);  // pi times the pdf's peak
-    return mayMeetLargeLight(sp, lights, kLargeLightSolidAngle / piPeak);
+    return kLargeLightSolidAngle / piPeak;
 }
 
-// Whether a shading point also takes BRDF samples under MIS: where some light
+// Whether each of the first n shading points also takes BRDF samples under
+// MIS (into take[l], 1 or 0; returns whether any does): where some light
 // that may subtend a large solid angle, for the point's BRDF, may also light
 // the point (an environment always does); never when the only lights are
 // points and directions, which no ray can hit (the samples would all add
-// nothing).
+// nothing). at: the points and their geometric normals, as lanes. Decided
+// over the lanes as arrays: one point at a time, it took 5% of the textbook
+// scene's render time (fig18, where no point takes any).
 //
 // Large is measured against the peak of the BRDF's sampling pdf. A light of
 // solid angle omega sampled uniformly over it has a pdf near 1/omega; where
@@ -372,15 +372,28 @@ constexpr float kLargeLightSolidAngle = 1.f;
 // whatever the lights before this rule: in penumbra-bench's 10^4-triangle
 // sphere frame, under a small square lamp, 123 of them met it, and they took
 // 12% of the frame's time. docs/rendering.md has the noise measured.)
-[[gnu::always_inline]] inline bool takesBrdfSamples(const ShadingPoint& sp, const LightSet& lights) {
-    if (lights.environment()) return true;          // an environment subtends 4 pi
+bool takesBrdfSamples(const ShadingPoint* const* sps, const LanePoints& at, int n, const LightSet& lights,
+                      int32_t (&take)[kLaneWidth]) {
+    const bool all = lights.environment() != nullptr;  // an environment subtends 4 pi
+    for (int l = 0; l < n; ++l) take[l] = all;
+    if (all) return n > 0;
     if (lights.areaLightCount() == 0) return false;  // point and directional lights: nothing a ray can hit
-    if (sp.glossy) return glossyTakesBrdfSamples(sp, lights);
-    return mayMeetLargeLight(sp, lights, kLargeLightSolidAngle);
+    alignas(64) float omega[kLaneWidth];
+    for (int l = 0; l < n; ++l)
+        omega[l] = sps[l]->glossy ? glossyLargeLightSolidAngle(*sps[l]) : kLargeLightSolidAngle;
+    int32_t any = 0;
+    for (size_t j = 0; j < lights.areaLightCount(); ++j) {
+        alignas(64) int32_t exceed[kLaneWidth], reach[kLaneWidth];
+        if (!lights.mayExceedSolidAngleLanes(j, at, omega, n, exceed)) continue;
+        lights[j].mayReachLanes(at, n, reach);
+        for (int l = 0; l < n; ++l) {
+            take[l] |= exceed[l] & reach[l];
+            any |= take[l];
+        }
+    }
+    return any != 0;
 }
 
-constexpr int kLaneWidth = ShadowLanes::kWidth;
-static_assert(kLaneWidth == OwenSobol2D::kLanes && kLaneWidth == LightLanes::kWidth);
 
 // The light samples of the first m lanes of `at`, lane c's being sample ks[c]
 // of the n that camera sample indices[c] draws from the sequence of keys[c]
@@ -411,12 +424,22 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
         if (active[i] && lanes[i].sp.reflectsLight()) lit[nLit++] = static_cast<uint8_t>(i);
     if (nLit == 0) return;
 
+    // The lit lanes' points and normals alone (every light's mayReachLanes asks; gathered once).
+    LanePoints litPoints;
+    const ShadingPoint* litSps[kMaxBatch];
+    for (size_t q = 0; q < nLit; ++q) {
+        litSps[q] = &lanes[lit[q]].sp;
+        litPoints.set(int(q), litSps[q]->p, litSps[q]->ng);
+    }
     const DirectLightSampling mode = settings_.directLight;
     const bool area = mode == DirectLightSampling::Area;
     bool mis[kMaxBatch] = {};
     bool anyMis = false;
-    if (mode == DirectLightSampling::Mis)
-        for (size_t q = 0; q < nLit; ++q) anyMis |= mis[lit[q]] = takesBrdfSamples(lanes[lit[q]].sp, lights_);
+    if (mode == DirectLightSampling::Mis) {
+        alignas(64) int32_t take[kMaxBatch];
+        anyMis = takesBrdfSamples(litSps, litPoints, int(nLit), lights_, take);
+        for (size_t q = 0; q < nLit; ++q) mis[lit[q]] = take[q] != 0;
+    }
     const auto sampleLight = [&](const Light& light, const Vec3f& p, Vec2f u) {
         return area ? light.sampleArea(p, u) : light.sample(p, u);
     };
@@ -440,8 +463,6 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
     const bool power = settings_.lightSelection == LightSelection::Power;
     ShadowLanes shadowLanes;  // the lit lanes' shading points, gathered on first use
     bool shadowLanesSet = false;
-    LanePoints litPoints;  // the lit lanes' points and normals alone, gathered on first use (every light asks)
-    bool litPointsSet = false;
     if (!power) {
         for (size_t j = 0; j < nLights; ++j) {
             const Light& light = lights_[j];
@@ -460,14 +481,15 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
                 // One sample per lane: every step over the lanes as arrays (shading/shadow_lanes.h).
                 static_assert(kMaxBatch <= size_t(ShadowLanes::kWidth), "a batch's lanes fit one packet");
                 if (!shadowLanesSet) {
-                    for (size_t q = 0; q < nLit; ++q) shadowLanes.setLane(int(q), lanes[lit[q]].sp, mis[lit[q]]);
+                    shadowLanes.setPoints(litPoints);
+                    for (size_t q = 0; q < nLit; ++q) shadowLanes.setShading(int(q), *litSps[q], mis[lit[q]]);
                     shadowLanesSet = true;
                 }
                 alignas(64) int32_t reach[kLaneWidth];
                 alignas(64) uint64_t keys[kLaneWidth];
                 alignas(64) uint32_t indices[kLaneWidth];
                 alignas(64) const uint32_t first[kLaneWidth] = {};
-                light.mayReachLanes(shadowLanes.points(), int(nLit), reach);
+                light.mayReachLanes(litPoints, int(nLit), reach);
                 for (size_t q = 0; q < size_t(kLaneWidth); ++q) {
                     keys[q] = q < nLit ? dimensionKey(lanes[lit[q]].key, dim) : 0;
                     indices[q] = q < nLit ? lanes[lit[q]].key.index : 0;
@@ -496,10 +518,6 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
                     m = 0;
                 };
                 // Points whose every sample would be discarded take no lanes.
-                if (!litPointsSet) {
-                    for (size_t q = 0; q < nLit; ++q) litPoints.set(int(q), lanes[lit[q]].sp.p, lanes[lit[q]].sp.ng);
-                    litPointsSet = true;
-                }
                 alignas(64) int32_t reach[kLaneWidth];
                 light.mayReachLanes(litPoints, int(nLit), reach);
                 for (size_t q = 0; q < nLit; ++q) {

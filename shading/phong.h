@@ -32,7 +32,7 @@ inline Rgb phongResponse(const Material& m, const Rgb& kd, const Vec3f& n, const
     const float cosTheta = dot(n, wi);
     if (!(cosTheta > 0.f)) return {};
     float specular = 0.f;
-    if (Rgb(m.ks).maxComponent() > 0.f) {
+    if (m.isGlossy()) {
         const Vec3f r = 2.f * cosTheta * n - wi;
         const float cosAlpha = dot(r, wo);
         if (cosAlpha > 0.f) specular = std::pow(cosAlpha, m.exponent);

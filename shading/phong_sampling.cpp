@@ -45,7 +45,7 @@ PhongSample evaluateWith(const Material& m, const Rgb& kd, const Vec3f& n, const
     pdf += (1.f - pd) * (e + 1.f) * kInv2Pi * lobe;
     Rgb fCos;
     if (cosTheta > 0.f) {
-        const float specular = Rgb(m.ks).maxComponent() > 0.f ? lobe : 0.f;
+        const float specular = m.isGlossy() ? lobe : 0.f;
         const float norm = m.model == PhongModel::Normalized ? (e + 2.f) * kInv2Pi : 1.f;
         fCos = (kd * kInvPi + m.ks * (norm * specular)) * cosTheta;
     }
@@ -67,7 +67,7 @@ std::pair<bool, Vec2f> pickLobe(Vec2f u, float pd) {
 template <class DiffuseFrame, class LobeFrame>
 std::optional<Vec3f> sampleLobeDirection(const Material& m, const Vec3f& n, Vec2f u, float pd,
                                          const DiffuseFrame& diffuseFrame, const LobeFrame& lobeFrame) {
-    if (pd <= 0.f && Rgb(m.ks).isBlack()) return std::nullopt;
+    if (pd <= 0.f && !m.isGlossy()) return std::nullopt;
     const auto [diffuse, v] = pickLobe(u, pd);
     Vec3f wi = diffuse ? diffuseFrame().toWorld(squareToCosineHemisphere(v))
                        : lobeFrame().toWorld(squareToPhongLobe(v, m.exponent));

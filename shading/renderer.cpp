@@ -200,8 +200,7 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
         }
         for (size_t i = 0; i < count; ++i) keys[i] = SampleKey{pixelKey[i], s};
         c.camera.generateRayLanes(filmX, filmY, c.useLens ? lens : nullptr, int(count), rayLanes);
-        c.prepared.accelerator().intersectLanes(rayLanes, std::span<std::optional<Hit>>(hits.data(), count));
-        for (size_t i = 0; i < count; ++i) rays[i] = rayLanes.ray(int(i));
+        c.prepared.accelerator().intersectLanes(rayLanes, std::span<std::optional<Hit>>(hits.data(), count), rays);
         const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();
         if (c.path)
             c.path->radianceBatch(std::span<const Ray>(rays, count), std::span<const std::optional<Hit>>(hits.data(), count),

@@ -16,8 +16,8 @@ struct ShadingPoint {
     Vec3f wo;   // unit direction back along the ray
     Rgb kd;     // diffuse albedo after texturing
     const Material* material = nullptr;
-    // The material has a specular lobe (ks > 0); set by Integrator::shade, so
-    // that the per-lane MIS decision need not load through `material`.
+    // material->isGlossy(); set by Integrator::shade, so that the per-lane MIS
+    // decision and ShadowLanes need not load through `material`.
     bool glossy = false;
 
     /// Whether any light can reach the viewer from here (a black or pure

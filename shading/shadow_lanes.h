@@ -50,7 +50,15 @@ public:
 
     /// Lane c's shading point; mis as in shadowSampleWeight. The point must
     /// outlive the lanes (lanes that need the scalar rule read it).
-    void setLane(int c, const ShadingPoint& sp, bool mis);
+    void setLane(int c, const ShadingPoint& sp, bool mis) {
+        points_.set(c, sp.p, sp.ng);
+        setShading(c, sp, mis);
+    }
+    /// The lanes' points and normals at once, where the caller has them as
+    /// lanes already: then setShading sets the rest of each lane.
+    void setPoints(const LanePoints& points) { points_ = points; }
+    /// setLane but for the point and normal.
+    void setShading(int c, const ShadingPoint& sp, bool mis);
     /// Every lane at one shading point (its samples are then the lanes).
     void setAll(const ShadingPoint& sp, bool mis) {
         for (int c = 0; c < kWidth; ++c) setLane(c, sp, mis);
@@ -72,27 +80,21 @@ private:
     LanePoints points_;  // p and ng
     alignas(64) float nsx_[kWidth], nsy_[kWidth], nsz_[kWidth];
     alignas(64) float kdr_[kWidth], kdg_[kWidth], kdb_[kWidth];
-    alignas(64) float ksr_[kWidth], ksg_[kWidth], ksb_[kWidth];
-    alignas(64) float specScale_[kWidth];  // the specular lobe's normalisation, 1 in the classic model
-    alignas(64) int32_t scalar_[kWidth];   // 1: glossy or MIS, weighed by shadowSampleWeight
+    alignas(64) int32_t scalar_[kWidth];  // 1: glossy or MIS, weighed by shadowSampleWeight
     const ShadingPoint* sp_[kWidth];
     bool mis_[kWidth];
 };
 
-[[gnu::always_inline]] inline void ShadowLanes::setLane(int c, const ShadingPoint& sp, bool mis) {
-    const Material& m = *sp.material;
-    points_.set(c, sp.p, sp.ng);
+[[gnu::always_inline]] inline void ShadowLanes::setShading(int c, const ShadingPoint& sp, bool mis) {
     nsx_[c] = sp.ns.x;
     nsy_[c] = sp.ns.y;
     nsz_[c] = sp.ns.z;
     kdr_[c] = sp.kd.r;
     kdg_[c] = sp.kd.g;
     kdb_[c] = sp.kd.b;
-    ksr_[c] = m.ks.r;
-    ksg_[c] = m.ks.g;
-    ksb_[c] = m.ks.b;
-    specScale_[c] = m.model == PhongModel::Normalized ? (m.exponent + 2.f) * kInv2Pi : 1.f;
-    scalar_[c] = mis || Rgb(m.ks).maxComponent() > 0.f;
+    // Only the Lambertian lanes' weights come from the arrays (the others'
+    // from shadowSampleWeight), so no specular term is gathered.
+    scalar_[c] = mis || sp.glossy;
     sp_[c] = &sp;
     mis_[c] = mis;
 }

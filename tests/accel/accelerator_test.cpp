@@ -6,6 +6,7 @@
 #include <xmmintrin.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <random>
@@ -232,10 +233,15 @@ TEST_P(EachAccelerator, RayLanesAnswerAsOccludedAndIntersectDoAndIdleLanesAreNot
         EmptyOptionals<Hit, RayLanes::kWidth> hits;
         for (int l = 0; l < RayLanes::kWidth; ++l) hits[l].emplace();  // stale answers to be replaced
         const uint64_t beforeHits = acc->invalidRayCount();
-        acc->intersectLanes(lanes, std::span<std::optional<Hit>>(hits.data(), RayLanes::kWidth));
+        Ray asRays[RayLanes::kWidth];
+        acc->intersectLanes(lanes, std::span<std::optional<Hit>>(hits.data(), RayLanes::kWidth), asRays);
         EXPECT_EQ(acc->invalidRayCount() - beforeHits, expectedInvalid) << acc->name();
         int found = 0;
         for (int l = 0; l < RayLanes::kWidth; ++l) {
+            const Ray& r = asRays[l];
+            const Ray lane = lanes.ray(l);
+            EXPECT_EQ(std::memcmp(&r, &lane, sizeof(Ray)), 0) << acc->name() << " lane " << l
+                                                              << ": the ray handed back is the lane's, bit for bit";
             const std::optional<Hit> want = index[l] >= 0 ? acc->intersect(rays[size_t(index[l])]) : std::nullopt;
             ASSERT_EQ(hits[l].has_value(), want.has_value()) << acc->name() << " lane " << l;
             if (!want) continue;

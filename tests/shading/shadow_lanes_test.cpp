@@ -75,6 +75,7 @@ TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
             ShadingPoint& sp = sps[i];
             sp.material = &ms[i % ms.size()];
             sp.kd = sp.material->kd;
+            sp.glossy = sp.material->isGlossy();  // as Integrator::shade sets it
             sp.p = Vec3f{6.f * a.x - 3.f, 0.f, 6.f * a.y - 3.f};  // on the floor, some in the sphere's shadow
             sp.ng = Vec3f{0, 1, 0};
             sp.ns = normalize(Vec3f{0.3f * (u.y - 0.5f), 1.f, 0.2f});

@@ -372,7 +372,7 @@ static_assert(kLaneWidth == OwenSobol2D::kLanes && kLaneWidth == LightLanes::kWi
 // whatever the lights before this rule: in penumbra-bench's 10^4-triangle
 // sphere frame, under a small square lamp, 123 of them met it, and they took
 // 12% of the frame's time. docs/rendering.md has the noise measured.)
-bool takesBrdfSamples(const ShadingPoint* const* sps, const LanePoints& at, int n, const LightSet& lights,
+[[gnu::always_inline]] inline bool takesBrdfSamples(const ShadingPoint* const* sps, const LanePoints& at, int n, const LightSet& lights,
                       int32_t (&take)[kLaneWidth]) {
     const bool all = lights.environment() != nullptr;  // an environment subtends 4 pi
     for (int l = 0; l < n; ++l) take[l] = all;

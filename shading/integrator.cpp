@@ -738,6 +738,11 @@ void Integrator::addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint
     // depths once dielectrics split them: one call per depth present, in increasing order. Without
     // dielectrics every lane is at the same depth and this is a single call.
     const size_t n = lanes.size();
+    // Without a mirror or glass to go on from, every lane is at depth 0.
+    if (!continues_) {
+        addDirectLight(lanes, active, 0, counts);
+        return;
+    }
     // The common case first: every active lane at one depth, one call.
     int depth = -1;
     bool mixed = false;

@@ -16,13 +16,14 @@ struct ShadingPoint {
     Vec3f wo;   // unit direction back along the ray
     Rgb kd;     // diffuse albedo after texturing
     const Material* material = nullptr;
-    // material->isGlossy(); set by Integrator::shade, so that the per-lane MIS
-    // decision and ShadowLanes need not load through `material`.
+    // material->isGlossy(); set by Integrator::shade, so that the per-lane
+    // decisions (which lanes take light samples, MIS, ShadowLanes' rule) need
+    // not load through `material`.
     bool glossy = false;
 
     /// Whether any light can reach the viewer from here (a black or pure
     /// mirror material needs no light samples).
-    bool reflectsLight() const { return !(kd.isBlack() && Rgb(material->ks).isBlack()); }
+    bool reflectsLight() const { return glossy || !kd.isBlack(); }
 };
 
 }  // namespace penumbra

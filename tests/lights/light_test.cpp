@@ -139,6 +139,44 @@ TEST(LightSet, BuildsOneLightPerEmitterAndSelectsByPower) {
     EXPECT_NEAR(lights[1].power().r / lights[0].power().r, 3.0, 1e-5);
 }
 
+TEST(LightSet, SolidAngleBoundOverLanesIsThePointwiseOne) {
+    // A unit square lamp (bounding sphere radius sqrt(2)/2) and a point light:
+    // lane l's answer against its own omega is mayExceedSolidAngle's, the
+    // points from inside the sphere to far away, omegas from 0.01 sr to 2 pi.
+    Scene s = sceneWithEmitter(false);
+    s.rectangles.push_back(Rectangle{Vec3f{-0.5f, 2.f, -0.5f}, Vec3f{1, 0, 0}, Vec3f{0, 0, 1}, 0});
+    s.pointLights.push_back(PointLight{Vec3f{0, 5, 0}, Rgb(1.f)});
+    const LightSet lights(s);
+    ASSERT_EQ(lights.size(), 2u);
+    constexpr int W = LanePoints::kWidth;
+    int exceeded = 0, notExceeded = 0;
+    for (int round = 0; round < 8; ++round) {
+        LanePoints at;
+        float omega[W];
+        for (int l = 0; l < W; ++l) {
+            const Vec2f u = multiJitter2D(uint32_t(round * W + l), 8 * W, 9);
+            const float height = 2.f - 6.f * u.x;  // from the lamp's plane to 4 below it
+            at.set(l, Vec3f{0.3f * u.y, height, 0.1f}, Vec3f{0, 1, 0});
+            omega[l] = 0.01f * std::pow(628.f, u.y);  // 0.01 to 2 pi sr
+        }
+        const int n = W - round;  // fewer lanes than the width too
+        int32_t exceed[W];
+        const bool any = lights.mayExceedSolidAngleLanes(0, at, omega, n, exceed);
+        bool wantAny = false;
+        for (int l = 0; l < n; ++l) {
+            const bool want = lights.mayExceedSolidAngle(0, at.p(l), omega[l]);
+            EXPECT_EQ(exceed[l], want ? 1 : 0) << "round " << round << " lane " << l;
+            wantAny |= want;
+            (want ? exceeded : notExceeded) += 1;
+        }
+        EXPECT_EQ(any, wantAny) << "round " << round;
+        // A point light subtends nothing: no lane exceeds anything.
+        EXPECT_FALSE(lights.mayExceedSolidAngleLanes(1, at, omega, n, exceed));
+    }
+    EXPECT_GT(exceeded, 10);
+    EXPECT_GT(notExceeded, 10);
+}
+
 TEST(DeltaLights, PointLightFallsOffWithInverseSquare) {
     PointLightSource l(PointLight{Vec3f{0, 2, 0}, Rgb(8.f)});
     auto s = l.sample(Vec3f{0, 0, 0}, Vec2f{});

@@ -348,10 +348,11 @@ static_assert(kLaneWidth == OwenSobol2D::kLanes && kLaneWidth == LightLanes::kWi
 // that may subtend a large solid angle, for the point's BRDF, may also light
 // the point (an environment always does); never when the only lights are
 // points and directions, which no ray can hit (the samples would all add
-// nothing). at: the points and their geometric normals, as lanes. Decided
-// over the lanes as arrays: one point at a time, the decision took 4.6% of
-// textbook_fig18_04.json's render time (where no point takes any; measured
-// by skipping it), and this form gave back 3 to 4% of it.
+// nothing). sps: the shading points; at: their points and geometric
+// normals, as lanes. Decided over the lanes as arrays: one point at a time,
+// the decision took 4.6% of textbook_fig18_04.json's render time (where no
+// point takes any; measured by skipping it), and this form gave back 3 to 4%
+// of it.
 //
 // Large is measured against the peak of the BRDF's sampling pdf. A light of
 // solid angle omega sampled uniformly over it has a pdf near 1/omega; where
@@ -373,8 +374,8 @@ static_assert(kLaneWidth == OwenSobol2D::kLanes && kLaneWidth == LightLanes::kWi
 // whatever the lights before this rule: in penumbra-bench's 10^4-triangle
 // sphere frame, under a small square lamp, 123 of them met it, and they took
 // 12% of the frame's time. docs/rendering.md has the noise measured.)
-[[gnu::always_inline]] inline bool takesBrdfSamples(const ShadingPoint* const* sps, const LanePoints& at, int n, const LightSet& lights,
-                      int32_t (&take)[kLaneWidth]) {
+[[gnu::always_inline]] inline bool takesBrdfSamples(const ShadingPoint* const* sps, const LanePoints& at, int n,
+                                                    const LightSet& lights, int32_t (&take)[kLaneWidth]) {
     const bool all = lights.environment() != nullptr;  // an environment subtends 4 pi
     for (int l = 0; l < n; ++l) take[l] = all;
     if (all) return n > 0;
@@ -394,7 +395,6 @@ static_assert(kLaneWidth == OwenSobol2D::kLanes && kLaneWidth == LightLanes::kWi
     }
     return any != 0;
 }
-
 
 // The light samples of the first m lanes of `at`, lane c's being sample ks[c]
 // of the n that camera sample indices[c] draws from the sequence of keys[c]

@@ -425,20 +425,27 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
         if (active[i] && lanes[i].sp.reflectsLight()) lit[nLit++] = static_cast<uint8_t>(i);
     if (nLit == 0) return;
 
-    // The lit lanes' points and normals alone (every light's mayReachLanes asks; gathered once).
-    LanePoints litPoints;
     const ShadingPoint* litSps[kMaxBatch];
-    for (size_t q = 0; q < nLit; ++q) {
-        litSps[q] = &lanes[lit[q]].sp;
-        litPoints.set(int(q), litSps[q]->p, litSps[q]->ng);
-    }
+    for (size_t q = 0; q < nLit; ++q) litSps[q] = &lanes[lit[q]].sp;
+    // The lit lanes' points and normals alone, gathered on first use: the MIS
+    // decision, the lights' mayReachLanes and the one-sample path's
+    // ShadowLanes share them; area and power sampling never ask.
+    LanePoints litPointsStore;
+    bool litPointsSet = false;
+    const auto litPoints = [&]() -> const LanePoints& {
+        if (!litPointsSet) {
+            for (size_t q = 0; q < nLit; ++q) litPointsStore.set(int(q), litSps[q]->p, litSps[q]->ng);
+            litPointsSet = true;
+        }
+        return litPointsStore;
+    };
     const DirectLightSampling mode = settings_.directLight;
     const bool area = mode == DirectLightSampling::Area;
     bool mis[kMaxBatch] = {};
     bool anyMis = false;
     if (mode == DirectLightSampling::Mis) {
         alignas(64) int32_t take[kMaxBatch];
-        anyMis = takesBrdfSamples(litSps, litPoints, int(nLit), lights_, take);
+        anyMis = takesBrdfSamples(litSps, litPoints(), int(nLit), lights_, take);
         for (size_t q = 0; q < nLit; ++q) mis[lit[q]] = take[q] != 0;
     }
     const auto sampleLight = [&](const Light& light, const Vec3f& p, Vec2f u) {
@@ -482,7 +489,7 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
                 // One sample per lane: every step over the lanes as arrays (shading/shadow_lanes.h).
                 static_assert(kMaxBatch <= size_t(ShadowLanes::kWidth), "a batch's lanes fit one packet");
                 if (!shadowLanesSet) {
-                    shadowLanes.setPoints(litPoints);
+                    shadowLanes.setPoints(litPoints());
                     for (size_t q = 0; q < nLit; ++q) shadowLanes.setShading(int(q), *litSps[q], mis[lit[q]]);
                     shadowLanesSet = true;
                 }
@@ -490,7 +497,7 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
                 alignas(64) uint64_t keys[kLaneWidth];
                 alignas(64) uint32_t indices[kLaneWidth];
                 alignas(64) const uint32_t first[kLaneWidth] = {};
-                light.mayReachLanes(litPoints, int(nLit), reach);
+                light.mayReachLanes(litPoints(), int(nLit), reach);
                 for (size_t q = 0; q < size_t(kLaneWidth); ++q) {
                     keys[q] = q < nLit ? dimensionKey(lanes[lit[q]].key, dim) : 0;
                     indices[q] = q < nLit ? lanes[lit[q]].key.index : 0;
@@ -520,7 +527,7 @@ PENUMBRA_LANE_CLONES void Integrator::addDirectLight(std::span<PathLane> lanes, 
                 };
                 // Points whose every sample would be discarded take no lanes.
                 alignas(64) int32_t reach[kLaneWidth];
-                light.mayReachLanes(litPoints, int(nLit), reach);
+                light.mayReachLanes(litPoints(), int(nLit), reach);
                 for (size_t q = 0; q < nLit; ++q) {
                     const PathLane& lane = lanes[lit[q]];
                     if (!reach[q]) continue;

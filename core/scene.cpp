@@ -269,9 +269,21 @@ PENUMBRA_LANE_CLONES void Scene::completeHit(const Ray& ray, PrimRef ref, float 
     // Each shape completes its own hits beside its intersection test (core/shapes.cpp).
     switch (ref.kind) {
         case ShapeKind::Mesh: completeTriangleHit(meshes[ref.object], ref.prim, u, v, h); break;
-        case ShapeKind::Sphere: penumbra::completeHit(spheres[ref.object], ray, t, h); break;
-        case ShapeKind::Plane: penumbra::completeHit(planes[ref.object], ray, t, h); break;
-        case ShapeKind::Box: penumbra::completeHit(boxes[ref.object], ray, t, h); break;
+        case ShapeKind::Sphere: {
+            const Sphere& s = spheres[ref.object];
+            penumbra::completeHit(s, ray, t, h, textured(s.material));
+            break;
+        }
+        case ShapeKind::Plane: {
+            const Plane& p = planes[ref.object];
+            penumbra::completeHit(p, ray, t, h, textured(p.material));
+            break;
+        }
+        case ShapeKind::Box: {
+            const Box& b = boxes[ref.object];
+            penumbra::completeHit(b, ray, t, h, textured(b.material));
+            break;
+        }
         case ShapeKind::Rectangle: penumbra::completeHit(rectangles[ref.object], u, v, h); break;
         case ShapeKind::Disk: penumbra::completeHit(disks[ref.object], u, v, h); break;
         case ShapeKind::Instance: completeInstanceHit(ref, u, v, h); break;

@@ -112,6 +112,9 @@ public:
     }
     /// The same, written into h in place (every field; the renderer's batches).
     void completeHit(const Ray& ray, PrimRef ref, float t, float u, float v, Hit& h) const;
+    /// Whether material id has a texture, so that its hits need texture
+    /// coordinates (Hit::uv); false for an id with no material.
+    bool textured(uint32_t id) const { return id < materials.size() && materials[id].textureIndex >= 0; }
 
     /// Triangles as rendered: each instance counts its prototype's triangles.
     size_t triangleCount() const;

@@ -34,13 +34,14 @@ Box makeBox(const Vec3f& lo, const Vec3f& hi, const Transform& worldFromObject, 
     return b;
 }
 
-void completeHit(const Sphere& s, const Ray& ray, float t, Hit& h) {
+void completeHit(const Sphere& s, const Ray& ray, float t, Hit& h, bool withUv) {
     const Vec3f n = normalize(ray.o + t * ray.d - s.center);
     // Re-project onto the surface: the error is then relative to the
     // sphere's own coordinates, not to the distance travelled.
     h.p = s.center + s.radius * n;
     h.ng = h.ns = n;
-    h.uv = {std::atan2(n.z, n.x) * kInv2Pi + 0.5f, std::acos(std::clamp(n.y, -1.f, 1.f)) * kInvPi};
+    h.uv = withUv ? Vec2f{std::atan2(n.z, n.x) * kInv2Pi + 0.5f, std::acos(std::clamp(n.y, -1.f, 1.f)) * kInvPi}
+                  : Vec2f{};
     h.material = s.material;
 }
 
@@ -70,7 +71,7 @@ std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
     return std::nullopt;
 }
 
-void completeHit(const Box& b, const Ray& ray, float t, Hit& h) {
+void completeHit(const Box& b, const Ray& ray, float t, Hit& h, bool withUv) {
     // An axis-aligned box (most are) skips the transforms: the same values,
     // up to the sign of zero components.
     Vec3f po = b.identity ? ray.o + t * ray.d
@@ -92,8 +93,11 @@ void completeHit(const Box& b, const Ray& ray, float t, Hit& h) {
     no[axis] = upper ? 1.f : -1.f;
     h.p = b.identity ? po : b.worldFromObject.applyPoint(po);
     h.ng = h.ns = b.identity ? no : normalize(b.worldFromObject.applyNormal(no));
-    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-    h.uv = {(po[a1] - b.lo[a1]) / ext[a1], (po[a2] - b.lo[a2]) / ext[a2]};
+    h.uv = {};
+    if (withUv) {
+        const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+        h.uv = {(po[a1] - b.lo[a1]) / ext[a1], (po[a2] - b.lo[a2]) / ext[a2]};
+    }
     h.material = b.material;
 }
 

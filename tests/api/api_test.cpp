@@ -372,6 +372,55 @@ TEST(ApiRender, MaterialsCanCarryADiffuseTexture) {
     EXPECT_NE(warnings[0].find("missing.png: cannot read texture"), std::string::npos) << warnings[0];
 }
 
+// A sphere's, a plane's and a box's hits take texture coordinates only for a
+// textured material (Scene::completeHit): the texture must still follow them
+// there. Per pixel, textured / plain is the texture's value at the pixel's uv;
+// uv left at (0, 0) would make it one value over the whole shape.
+TEST(ApiRender, AnalyticShapesCarryTheirTexture) {
+    const pnb::Renderer renderer = quietRenderer();
+    const auto dir = penumbra::test::tempDir();
+    // The texture: a lit sphere on a blue background (the sphere's texels are brighter).
+    pnb::RenderSettings texSettings;
+    texSettings.width = texSettings.height = 33;
+    texSettings.spp = 1;
+    renderer.render(renderer.prepare(litSphere()), sphereCamera(), texSettings)
+        .writeImage((dir / "texture.png").string());
+    for (int shape = 0; shape < 3; ++shape) {
+        auto render = [&](const std::string& texture) {
+            pnb::Scene s;
+            pnb::Material m;
+            m.kd = pnb::gray(0.9f);
+            m.diffuseTexture = texture;
+            const pnb::MaterialId id = s.addMaterial(m);
+            if (shape == 0) s.addPlane({0, 0, 0}, {0, 0, 1}, id);
+            if (shape == 1) s.addSphere({0, 0, 0}, 1.f, id);
+            if (shape == 2) s.addBox({-1, -1, -1}, {1, 1, 1}, id);
+            s.addPointLight({0.3f, 0.4f, 4.f}, pnb::gray(20.f));  // at the eye: every visible point lit
+            s.setBackground({0, 0, 0});
+            pnb::RenderSettings st;
+            st.width = st.height = 24;
+            st.spp = 1;
+            pnb::Camera cam;
+            cam.eye = {0.3f, 0.4f, 4.f};
+            cam.lookAt = {0, 0, 0};
+            return renderer.render(renderer.prepare(s), cam, st);
+        };
+        const pnb::Framebuffer plain = render(""), textured = render((dir / "texture.png").string());
+        float lo = 1e30f, hi = 0.f;
+        int covered = 0;
+        for (int y = 0; y < 24; ++y)
+            for (int x = 0; x < 24; ++x) {
+                const float p = plain.pixel(x, y).g, t = textured.pixel(x, y).g;
+                if (!(p > 1e-3f)) continue;  // the background (black)
+                ++covered;
+                lo = std::min(lo, t / p);
+                hi = std::max(hi, t / p);
+            }
+        EXPECT_GT(covered, 40) << "shape " << shape;
+        EXPECT_GT(hi, 2.f * lo) << "shape " << shape << ": the texture does not vary over the surface";
+    }
+}
+
 TEST(ApiRender, AnImageEncoderWritesTheSameFilesAndTheSameErrors) {
     pnb::ImageEncoder encoder;  // first: it forks, while this test has one thread
     EXPECT_TRUE(encoder.running());

@@ -16,6 +16,15 @@ namespace {
 
 constexpr float kEps = 1e-5f;
 
+// A scene whose material 0 has a texture: Scene::completeHit computes the uv
+// of a sphere, plane or box hit only for such a material.
+Scene texturedScene() {
+    Scene scene;
+    scene.materials.resize(1);
+    scene.materials[0].textureIndex = 0;
+    return scene;
+}
+
 void expectVecNear(const Vec3f& a, const Vec3f& b, float eps = kEps) {
     EXPECT_NEAR(a.x, b.x, eps);
     EXPECT_NEAR(a.y, b.y, eps);
@@ -35,7 +44,7 @@ void expectFiniteOrMiss(const std::optional<PrimHit>& h) {
 // ---------------------------------------------------------------- sphere
 
 TEST(SphereTest, HitFromOutsideGivesNearSideWithOutwardNormal) {
-    Scene scene;
+    Scene scene = texturedScene();
     scene.spheres.push_back(Sphere{{0.f, 0.f, 0.f}, 1.f, 0});
     Ray r = makeRay({0.f, 0.f, -5.f}, {0.f, 0.f, 1.f});
     auto h = intersect(scene.spheres[0], r);
@@ -51,7 +60,7 @@ TEST(SphereTest, HitFromOutsideGivesNearSideWithOutwardNormal) {
 }
 
 TEST(SphereTest, HitFromInsideGivesFarSideAndNormalStaysOutward) {
-    Scene scene;
+    Scene scene = texturedScene();
     scene.spheres.push_back(Sphere{{1.f, 2.f, 3.f}, 2.f, 0});
     Ray r = makeRay({1.f, 2.f, 3.f}, {0.f, 1.f, 0.f});
     auto h = intersect(scene.spheres[0], r);
@@ -124,7 +133,7 @@ TEST(SphereTest, SmallFarSphereIsAccurate) {
 // ---------------------------------------------------------------- plane
 
 TEST(PlaneTest, HitFromFrontAndBackWhenTwoSided) {
-    Scene scene;
+    Scene scene = texturedScene();
     scene.planes.push_back(Plane{{0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, true, 0});
     Ray down = makeRay({1.f, 2.f, 3.f}, {0.f, -1.f, 0.f});
     auto h = intersect(scene.planes[0], down);
@@ -173,7 +182,7 @@ TEST(PlaneTest, IntervalLimits) {
 // ---------------------------------------------------------------- box
 
 TEST(BoxTest, AxisAlignedHitsFromOutsideAndInside) {
-    Scene scene;
+    Scene scene = texturedScene();
     scene.boxes.push_back(makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}));
     Ray r = makeRay({0.5f, -0.5f, -5.f}, {0.f, 0.f, 1.f});
     auto h = intersect(scene.boxes[0], r);
@@ -245,6 +254,62 @@ TEST(BoxTest, SingularTransformNeverHits) {
         expectFiniteOrMiss(h);
     }
     EXPECT_TRUE(bounds(b).empty());
+}
+
+// ------------------------------------------------- uv only where textured
+
+// A sphere's, a plane's or a box's hit takes its uv only where its material
+// has a texture (the only reader); every other field is the same bit for bit.
+TEST(HitCompletionTest, UvOnlyForTexturedMaterialsAndNothingElseChanges) {
+    Scene plain;
+    plain.materials.resize(1);  // no texture
+    Scene textured = texturedScene();
+    for (Scene* s : {&plain, &textured}) {
+        s->spheres.push_back(Sphere{{0.3f, -0.2f, 0.1f}, 1.5f, 0});
+        s->planes.push_back(Plane{{0.f, -1.f, 0.f}, normalize(Vec3f{0.2f, 1.f, -0.1f}), true, 0});
+        s->boxes.push_back(makeBox({-1.f, -2.f, -0.5f}, {2.f, 1.f, 0.5f}));
+        s->boxes.push_back(makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}, Transform::rotate(40.f, Vec3f{0.f, 1.f, 0.f})));
+    }
+    const PrimRef refs[] = {{ShapeKind::Sphere, 0, 0}, {ShapeKind::Plane, 0, 0}, {ShapeKind::Box, 0, 0},
+                            {ShapeKind::Box, 1, 0}};
+    int hits = 0, nonZeroUv = 0;
+    for (const PrimRef& ref : refs) {
+        for (int k = 0; k < 16; ++k) {
+            const float a = 0.39f * float(k);
+            const Ray r = makeRay({6.f * std::cos(a), 3.f - 0.3f * float(k), 6.f * std::sin(a)},
+                                  normalize(Vec3f{-std::cos(a), -0.4f, -std::sin(a)}));
+            std::optional<PrimHit> h;
+            switch (ref.kind) {
+                case ShapeKind::Sphere: h = intersect(plain.spheres[0], r); break;
+                case ShapeKind::Plane: h = intersect(plain.planes[0], r); break;
+                default: h = intersect(plain.boxes[ref.object], r); break;
+            }
+            if (!h) continue;
+            ++hits;
+            const Hit p = plain.completeHit(r, ref, h->t, h->u, h->v);
+            const Hit t = textured.completeHit(r, ref, h->t, h->u, h->v);
+            EXPECT_EQ(p.t, t.t);
+            EXPECT_EQ(p.p, t.p);
+            EXPECT_EQ(p.ng, t.ng);
+            EXPECT_EQ(p.ns, t.ns);
+            EXPECT_EQ(p.material, t.material);
+            EXPECT_EQ(p.ref, t.ref);
+            EXPECT_EQ(p.uv.x, 0.f);
+            EXPECT_EQ(p.uv.y, 0.f);
+            // The textured scene's uv is the shape's own, as the free function computes it.
+            Hit own;
+            switch (ref.kind) {
+                case ShapeKind::Sphere: completeHit(plain.spheres[0], r, h->t, own); break;
+                case ShapeKind::Plane: completeHit(plain.planes[0], r, h->t, own); break;
+                default: completeHit(plain.boxes[ref.object], r, h->t, own); break;
+            }
+            EXPECT_EQ(t.uv.x, own.uv.x);
+            EXPECT_EQ(t.uv.y, own.uv.y);
+            nonZeroUv += (t.uv.x != 0.f || t.uv.y != 0.f) ? 1 : 0;
+        }
+    }
+    EXPECT_GT(hits, 30);
+    EXPECT_GT(nonZeroUv, 30);  // the comparison above compares real coordinates
 }
 
 // ---------------------------------------------------------------- rectangle

@@ -265,7 +265,7 @@ void Scene::completeInstanceHit(const PrimRef& ref, float u, float v, Hit& h) co
     h.material = in.material != kNoMaterialOverride ? in.material : m.materialOf(ref.prim);
 }
 
-PENUMBRA_LANE_CLONES void Scene::completeHit(const Ray& ray, PrimRef ref, float t, float u, float v, Hit& h) const {
+PENUMBRA_LANE_CLONES void Scene::completeHit(const Ray& ray, const PrimRef& ref, float t, float u, float v, Hit& h) const {
     // Each shape completes its own hits beside its intersection test (core/shapes.cpp).
     switch (ref.kind) {
         case ShapeKind::Mesh: completeTriangleHit(meshes[ref.object], ref.prim, u, v, h); break;

@@ -57,4 +57,31 @@ private:
     alignas(std::optional<T>) unsigned char bytes_[N * sizeof(std::optional<T>)];
 };
 
+/// Storage for one T, constructed only by emplace() and then destroyed with
+/// the holder. For a per-batch object that most batches never use:
+/// a declared std::optional<T> clears every byte of its storage (GCC
+/// value-initialises its empty member), 392 bytes for the integrator's 16
+/// pending-ray stacks on every batch, used or not.
+template <class T>
+class Deferred {
+public:
+    Deferred() {}  // deliberately leaves the storage as it is
+    ~Deferred() {
+        if (value_) value_->~T();
+    }
+    Deferred(const Deferred&) = delete;
+    Deferred& operator=(const Deferred&) = delete;
+    /// Constructs the value (at most once).
+    T& emplace() {
+        if (!value_) value_ = new (bytes_) T();
+        return *value_;
+    }
+    /// The value, or null before emplace().
+    T* get() { return value_; }
+
+private:
+    alignas(T) unsigned char bytes_[sizeof(T)];
+    T* value_ = nullptr;
+};
+
 }  // namespace penumbra

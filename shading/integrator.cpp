@@ -668,7 +668,7 @@ PENUMBRA_LANE_CLONES void Integrator::radianceBatch(std::span<const Ray> cameraR
     ScratchArray<PathLane, kMaxBatch> lanes;
     // The lanes' stacks of pending rays, only where a lane can go on (16 vectors
     // made and destroyed for every batch showed in the textbook scene's profile).
-    std::optional<std::array<std::vector<PendingRay>, kMaxBatch>> pending;
+    Deferred<std::array<std::vector<PendingRay>, kMaxBatch>> pending;
     if (continues_) pending.emplace();
     uint8_t active[kMaxBatch];
     for (size_t i = 0; i < n; ++i) {
@@ -681,7 +681,7 @@ PENUMBRA_LANE_CLONES void Integrator::radianceBatch(std::span<const Ray> cameraR
         lane.key = keys[i];
         lane.depth = 0;
         lane.longest = 0;
-        lane.pending = continues_ ? &(*pending)[i] : nullptr;
+        lane.pending = continues_ ? &(*pending.get())[i] : nullptr;
         active[i] = 1;
         if (!firstHits.empty()) firstHits[i] = FirstHit{};
     }

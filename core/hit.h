@@ -29,9 +29,9 @@ struct Hit {
     Vec3f p;        // hit point, computed from the surface parametrisation
     Vec3f ng;       // unit geometric normal of the front side (not flipped towards the ray)
     Vec3f ns;       // unit shading normal, in the same hemisphere as ng
-    Vec2f uv;       // texture coordinates (mesh UVs if present, else shape parameters); a sphere's,
-                    // a plane's or a box's only where Scene::completeHit's material has a texture
-                    // (else (0, 0): nothing reads them there)
+    Vec2f uv;       // texture coordinates (mesh UVs if present, else shape parameters); on a sphere,
+                    // plane or box only where the hit's material has a texture (Scene::textured),
+                    // else (0, 0): nothing else reads them
     PrimRef ref;
     uint32_t material = 0;
 };

@@ -374,8 +374,10 @@ TEST(ApiRender, MaterialsCanCarryADiffuseTexture) {
 
 // A sphere's, a plane's and a box's hits take texture coordinates only for a
 // textured material (Scene::completeHit): the texture must still follow them
-// there. Per pixel, textured / plain is the texture's value at the pixel's uv;
-// uv left at (0, 0) would make it one value over the whole shape.
+// there, in both integrators. Per pixel, textured / plain is the texture's
+// value at the pixel's uv (the light is a point at the eye and nothing else
+// is lit, so the rest cancels); uv left at (0, 0) would make it one value
+// over the whole shape.
 TEST(ApiRender, AnalyticShapesCarryTheirTexture) {
     const pnb::Renderer renderer = quietRenderer();
     const auto dir = penumbra::test::tempDir();
@@ -385,7 +387,9 @@ TEST(ApiRender, AnalyticShapesCarryTheirTexture) {
     texSettings.spp = 1;
     renderer.render(renderer.prepare(litSphere()), sphereCamera(), texSettings)
         .writeImage((dir / "texture.png").string());
-    for (int shape = 0; shape < 3; ++shape) {
+    for (int run = 0; run < 6; ++run) {
+        const int shape = run % 3;
+        const pnb::IntegratorKind integrator = run < 3 ? pnb::IntegratorKind::Whitted : pnb::IntegratorKind::Path;
         auto render = [&](const std::string& texture) {
             pnb::Scene s;
             pnb::Material m;
@@ -400,6 +404,7 @@ TEST(ApiRender, AnalyticShapesCarryTheirTexture) {
             pnb::RenderSettings st;
             st.width = st.height = 24;
             st.spp = 1;
+            st.integrator = integrator;
             pnb::Camera cam;
             cam.eye = {0.3f, 0.4f, 4.f};
             cam.lookAt = {0, 0, 0};
@@ -416,8 +421,8 @@ TEST(ApiRender, AnalyticShapesCarryTheirTexture) {
                 lo = std::min(lo, t / p);
                 hi = std::max(hi, t / p);
             }
-        EXPECT_GT(covered, 40) << "shape " << shape;
-        EXPECT_GT(hi, 2.f * lo) << "shape " << shape << ": the texture does not vary over the surface";
+        EXPECT_GT(covered, 40) << "run " << run;
+        EXPECT_GT(hi, 2.f * lo) << "run " << run << ": the texture does not vary over the surface";
     }
 }
 

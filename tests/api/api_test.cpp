@@ -318,15 +318,21 @@ TEST(ApiRender, WritesImagesThroughTheLibrary) {
     EXPECT_NE(msg.find("unknown image format"), std::string::npos) << msg;
 }
 
-TEST(ApiRender, MaterialsCanCarryADiffuseTexture) {
-    const pnb::Renderer renderer = quietRenderer();
-    const auto dir = penumbra::test::tempDir();
-    // The texture: a render of its own, a lit sphere on a blue background.
+// A texture for the tests below, written into dir as texture.png: a render
+// of its own, a lit sphere (the brighter texels) on a blue background.
+std::string writeSphereTexture(const pnb::Renderer& renderer, const std::filesystem::path& dir) {
     pnb::RenderSettings texSettings;
     texSettings.width = texSettings.height = 33;
     texSettings.spp = 1;
-    renderer.render(renderer.prepare(litSphere()), sphereCamera(), texSettings)
-        .writeImage((dir / "texture.png").string());
+    const std::string path = (dir / "texture.png").string();
+    renderer.render(renderer.prepare(litSphere()), sphereCamera(), texSettings).writeImage(path);
+    return path;
+}
+
+TEST(ApiRender, MaterialsCanCarryADiffuseTexture) {
+    const pnb::Renderer renderer = quietRenderer();
+    const auto dir = penumbra::test::tempDir();
+    const std::string texturePath = writeSphereTexture(renderer, dir);
 
     auto quad = [&](const std::string& texture) {
         pnb::Scene s;
@@ -353,7 +359,7 @@ TEST(ApiRender, MaterialsCanCarryADiffuseTexture) {
         cam.lookAt = {0, 0, 0};
         return renderer.render(renderer.prepare(s), cam, st);
     };
-    const pnb::Framebuffer plain = quad(""), textured = quad((dir / "texture.png").string());
+    const pnb::Framebuffer plain = quad(""), textured = quad(texturePath);
     // Corners show the texture's background (0.1, 0.2, 0.3): blue outweighs red there.
     const pnb::Color p = plain.pixel(1, 1), t = textured.pixel(1, 1);
     EXPECT_FLOAT_EQ(p.r, p.b);
@@ -381,12 +387,7 @@ TEST(ApiRender, MaterialsCanCarryADiffuseTexture) {
 TEST(ApiRender, AnalyticShapesCarryTheirTexture) {
     const pnb::Renderer renderer = quietRenderer();
     const auto dir = penumbra::test::tempDir();
-    // The texture: a lit sphere on a blue background (the sphere's texels are brighter).
-    pnb::RenderSettings texSettings;
-    texSettings.width = texSettings.height = 33;
-    texSettings.spp = 1;
-    renderer.render(renderer.prepare(litSphere()), sphereCamera(), texSettings)
-        .writeImage((dir / "texture.png").string());
+    const std::string texturePath = writeSphereTexture(renderer, dir);
     for (int run = 0; run < 6; ++run) {
         const int shape = run % 3;
         const pnb::IntegratorKind integrator = run < 3 ? pnb::IntegratorKind::Whitted : pnb::IntegratorKind::Path;
@@ -410,7 +411,7 @@ TEST(ApiRender, AnalyticShapesCarryTheirTexture) {
             cam.lookAt = {0, 0, 0};
             return renderer.render(renderer.prepare(s), cam, st);
         };
-        const pnb::Framebuffer plain = render(""), textured = render((dir / "texture.png").string());
+        const pnb::Framebuffer plain = render(""), textured = render(texturePath);
         float lo = 1e30f, hi = 0.f;
         int covered = 0;
         for (int y = 0; y < 24; ++y)

@@ -267,23 +267,15 @@ void Scene::completeInstanceHit(const PrimRef& ref, float u, float v, Hit& h) co
 
 PENUMBRA_LANE_CLONES void Scene::completeHit(const Ray& ray, const PrimRef& ref, float t, float u, float v, Hit& h) const {
     // Each shape completes its own hits beside its intersection test (core/shapes.cpp).
+    // A sphere, plane or box computes its uv only for a textured material.
+    const auto completeAnalytic = [&](const auto& shape) {
+        penumbra::completeHit(shape, ray, t, h, textured(shape.material));
+    };
     switch (ref.kind) {
         case ShapeKind::Mesh: completeTriangleHit(meshes[ref.object], ref.prim, u, v, h); break;
-        case ShapeKind::Sphere: {
-            const Sphere& s = spheres[ref.object];
-            penumbra::completeHit(s, ray, t, h, textured(s.material));
-            break;
-        }
-        case ShapeKind::Plane: {
-            const Plane& p = planes[ref.object];
-            penumbra::completeHit(p, ray, t, h, textured(p.material));
-            break;
-        }
-        case ShapeKind::Box: {
-            const Box& b = boxes[ref.object];
-            penumbra::completeHit(b, ray, t, h, textured(b.material));
-            break;
-        }
+        case ShapeKind::Sphere: completeAnalytic(spheres[ref.object]); break;
+        case ShapeKind::Plane: completeAnalytic(planes[ref.object]); break;
+        case ShapeKind::Box: completeAnalytic(boxes[ref.object]); break;
         case ShapeKind::Rectangle: penumbra::completeHit(rectangles[ref.object], u, v, h); break;
         case ShapeKind::Disk: penumbra::completeHit(disks[ref.object], u, v, h); break;
         case ShapeKind::Instance: completeInstanceHit(ref, u, v, h); break;

@@ -91,7 +91,7 @@ public:
         // written just before the call that reads it stalled the reads (the
         // profile's hot loads were the Ray's; store forwarding, presumably):
         // textbook_fig18_04.json renders 1.15x as fast this way.
-        for (size_t l = 0; l < out.size(); ++l) rayOut[l] = rays.ray(int(l));
+        rays.rays(int(out.size()), rayOut);
         for (size_t l = 0; l < out.size(); ++l) completeThin(rayOut[l], thin[l], out[l]);
     }
     /// intersectPrim() for each active lane's ray, nullopt for idle lanes (all 16 written).

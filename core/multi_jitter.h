@@ -33,6 +33,31 @@ public:
     IndexPermutation(uint32_t n, const Keys& keys);
     uint32_t operator()(uint32_t i) const;
 
+    /// The smallest all-ones mask covering 0 .. n - 1: the walk's domain.
+    static uint32_t maskOf(uint32_t n) {
+        uint32_t mask = n > 1 ? n - 1 : 0;
+        mask |= mask >> 1;
+        mask |= mask >> 2;
+        mask |= mask >> 4;
+        mask |= mask >> 8;
+        mask |= mask >> 16;
+        return mask;
+    }
+    /// One step of the cycle walk: a bijection on [0, mask] chosen by the
+    /// keys (operator() repeats it until the value falls inside [0, n)).
+    static uint32_t step(uint32_t i, uint32_t mask, uint32_t k0, uint32_t k1, uint32_t k2) {
+        // Xor with a key, multiply by an odd number (mod 2^w), xorshift-right.
+        i ^= k0 & mask;
+        i = (i * k1) & mask;
+        i ^= i >> 3;
+        i = (i * 0x2c1b3c6dU) & mask;
+        i ^= k2 & mask;
+        i ^= i >> 7;
+        i = (i * 0x297a2d39U) & mask;
+        i ^= i >> 5;
+        return i;
+    }
+
 private:
     uint32_t n_ = 1, mask_ = 0, k0_ = 0, k1_ = 1, k2_ = 0;
 };
@@ -40,31 +65,13 @@ private:
 // Inline: the renderer builds a pixel's permutations in every block, and the
 // keys' hashes of several permutations then overlap.
 inline IndexPermutation::IndexPermutation(uint32_t n, const Keys& keys)
-    : n_(n), k0_(keys.k0), k1_(keys.k1), k2_(keys.k2) {
-    uint32_t mask = n > 1 ? n - 1 : 0;
-    mask |= mask >> 1;
-    mask |= mask >> 2;
-    mask |= mask >> 4;
-    mask |= mask >> 8;
-    mask |= mask >> 16;
-    mask_ = mask;
-}
+    : n_(n), mask_(maskOf(n)), k0_(keys.k0), k1_(keys.k1), k2_(keys.k2) {}
 
 inline uint32_t IndexPermutation::operator()(uint32_t i) const {
     if (n_ <= 1) return 0;
-    // Each step is a bijection on [0, mask]: xor with a key, multiply by an
-    // odd number (mod 2^w), and xorshift-right. Cycle-walking keeps the
-    // result inside [0, n) while preserving bijectivity.
-    const uint32_t mask = mask_;
+    // Cycle-walking keeps the result inside [0, n) while preserving bijectivity.
     do {
-        i ^= k0_ & mask;
-        i = (i * k1_) & mask;
-        i ^= i >> 3;
-        i = (i * 0x2c1b3c6dU) & mask;
-        i ^= k2_ & mask;
-        i ^= i >> 7;
-        i = (i * 0x297a2d39U) & mask;
-        i ^= i >> 5;
+        i = step(i, mask_, k0_, k1_, k2_);
     } while (i >= n_);
     return i;
 }

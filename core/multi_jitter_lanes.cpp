@@ -23,8 +23,39 @@ void MultiJitterLanes::setLane(int l, uint32_t p) { setLanes(&p, l, l + 1); }
 
 void MultiJitterLanes::setLanes(const uint32_t* patterns, int count) { setLanes(patterns, 0, count); }
 
+namespace {
+
+// table[i][first + l] = IndexPermutation(size, {k0[l], k1[l], k2[l]})(i) for
+// i < size and l < n, one row (one i, every lane) at a time as loops over the
+// lanes: each lane takes the walk's steps until its value falls inside
+// [0, size); one that is inside already keeps it. The same values as
+// IndexPermutation, which walks one lane's cycle at a time.
+[[gnu::always_inline]] inline void permutationRows(uint32_t size, const uint32_t* k0, const uint32_t* k1,
+                                                   const uint32_t* k2, int first, int n,
+                                                   uint8_t (*table)[MultiJitterLanes::kLanes]) {
+    const uint32_t mask = IndexPermutation::maskOf(size);
+    for (uint32_t i = 0; i < size; ++i) {
+        alignas(64) uint32_t x[MultiJitterLanes::kLanes];
+        uint32_t outside = 0;
+        for (int l = 0; l < n; ++l) {
+            x[l] = size <= 1 ? 0 : IndexPermutation::step(i, mask, k0[l], k1[l], k2[l]);
+            outside |= uint32_t(x[l] >= size);
+        }
+        while (outside) {
+            outside = 0;
+            for (int l = 0; l < n; ++l) {
+                x[l] = x[l] < size ? x[l] : IndexPermutation::step(x[l], mask, k0[l], k1[l], k2[l]);
+                outside |= uint32_t(x[l] >= size);
+            }
+        }
+        for (int l = 0; l < n; ++l) table[i][first + l] = static_cast<uint8_t>(x[l]);
+    }
+}
+
+}  // namespace
+
 // Lanes first..last-1 from patterns[0..last-first): the hashes as loops over
-// the lanes, then each lane's tables.
+// the lanes, then the tables a row at a time.
 PENUMBRA_LANE_CLONES void MultiJitterLanes::setLanes(const uint32_t* patterns, int first, int last) {
     alignas(64) uint32_t c0[kLanes], c1[kLanes], c2[kLanes], r0[kLanes], r1[kLanes], r2[kLanes];
     const int n = last - first;
@@ -42,11 +73,8 @@ PENUMBRA_LANE_CLONES void MultiJitterLanes::setLanes(const uint32_t* patterns, i
         r1[i] = r.k1;
         r2[i] = r.k2;
     }
-    for (int i = 0; i < n; ++i) {
-        const IndexPermutation colPerm(m_, {c0[i], c1[i], c2[i]}), rowPerm(k_, {r0[i], r1[i], r2[i]});
-        for (uint32_t c = 0; c < m_; ++c) colTable_[c][first + i] = static_cast<uint8_t>(colPerm(c));
-        for (uint32_t r = 0; r < k_; ++r) rowTable_[r][first + i] = static_cast<uint8_t>(rowPerm(r));
-    }
+    permutationRows(m_, c0, c1, c2, first, n, colTable_);
+    permutationRows(k_, r0, r1, r2, first, n, rowTable_);
 }
 
 PENUMBRA_LANE_CLONES void MultiJitterLanes::sample(uint32_t s, float* x, float* y) const {

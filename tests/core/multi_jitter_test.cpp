@@ -127,13 +127,28 @@ TEST(MultiJitter, LanesGiveEachLanesSetsSamples) {
         }
         lanes.setLane(3, 0xdeadbeefu);  // a lane set again takes its new set
         patterns[3] = 0xdeadbeefu;
+        // All lanes set at once (the renderer's way: their permutations'
+        // walks as one loop over the lanes), and the first seven of them.
+        MultiJitterLanes together(n), some(n);
+        together.setLanes(patterns, MultiJitterLanes::kLanes);
+        some.setLanes(patterns, 7);
         for (uint32_t s = 0; s < n; s += 1 + n / 64) {
             alignas(64) float x[MultiJitterLanes::kLanes], y[MultiJitterLanes::kLanes];
+            alignas(64) float tx[MultiJitterLanes::kLanes], ty[MultiJitterLanes::kLanes];
+            alignas(64) float sx[MultiJitterLanes::kLanes], sy[MultiJitterLanes::kLanes];
             lanes.sample(s, x, y);
+            together.sample(s, tx, ty);
+            some.sample(s, sx, sy);
             for (int l = 0; l < MultiJitterLanes::kLanes; ++l) {
                 const Vec2f want = MultiJitterSet(n, patterns[l]).sample(s);
                 ASSERT_EQ(x[l], want.x) << "n " << n << " lane " << l << " sample " << s;
                 ASSERT_EQ(y[l], want.y) << "n " << n << " lane " << l << " sample " << s;
+                ASSERT_EQ(tx[l], want.x) << "n " << n << " lane " << l << " sample " << s;
+                ASSERT_EQ(ty[l], want.y) << "n " << n << " lane " << l << " sample " << s;
+                if (l < 7) {
+                    ASSERT_EQ(sx[l], want.x) << "n " << n << " lane " << l << " sample " << s;
+                    ASSERT_EQ(sy[l], want.y) << "n " << n << " lane " << l << " sample " << s;
+                }
             }
         }
     }

@@ -729,16 +729,26 @@ PENUMBRA_LANE_CLONES void Integrator::radianceBatch(std::span<const Ray> cameraR
                               std::span<std::optional<Hit>>(bounce.data(), nNext));
         for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = bounce[c] ? &*bounce[c] : nullptr;
     }
+    // The counts summed here and stored once: updated in memory lane by lane,
+    // each lane's update waited for the one before it.
+    uint64_t lengthSum = 0, nonFinite = 0;
+    uint32_t lengthMax = counts.pathLengthMax;
     for (size_t i = 0; i < n; ++i) {
-        counts.pathLengthSum += uint64_t(lanes[i].longest);
-        counts.pathLengthMax = std::max(counts.pathLengthMax, uint32_t(lanes[i].longest));
-        if (lanes[i].L.isFinite()) {
-            radiance[i] = lanes[i].L;
-        } else {
-            ++counts.nonFinite;
-            radiance[i] = Rgb{};
-        }
+        lengthSum += uint64_t(lanes[i].longest);
+        lengthMax = std::max(lengthMax, uint32_t(lanes[i].longest));
+        // Component by component: L was just written so, and a copy of it
+        // as a whole (8 + 4 bytes) could not take the values from those
+        // stores (store forwarding) and waited for them to reach the cache.
+        const float r = lanes[i].L.r, g = lanes[i].L.g, b = lanes[i].L.b;
+        const bool finite = std::isfinite(r) && std::isfinite(g) && std::isfinite(b);
+        nonFinite += finite ? 0 : 1;
+        radiance[i].r = finite ? r : 0.f;
+        radiance[i].g = finite ? g : 0.f;
+        radiance[i].b = finite ? b : 0.f;
     }
+    counts.pathLengthSum += lengthSum;
+    counts.pathLengthMax = lengthMax;
+    counts.nonFinite += nonFinite;
 }
 
 void Integrator::addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const {

@@ -370,14 +370,41 @@ public:
         alignas(64) int ok[RayLanes::kWidth];
         alignas(64) RTCRayHit16 rh;
         loadRayLanes(rays, rh.ray, ok);
-        answerPacket<RayLanes::kWidth>(rh, ok, RayLanes::kWidth, out);
+        answerPacket<RayLanes::kWidth>(rh, ok, RayLanes::kWidth, out, true);
+    }
+
+    // Whether Embree's coherent traversal (RTC_INTERSECT_CONTEXT_FLAG_COHERENT:
+    // the packet's node tests against one frustum of all its rays) may answer
+    // the lanes of `valid`: their directions all point into one octant, no
+    // component nearer zero than 2^-20. With an exactly zero component (a ray
+    // along an axis) that traversal missed hits the single-ray query finds
+    // (Embree 3.13.5; tests/accel/agreement_test.cpp has the cases), so such
+    // packets, and any that mix octants, take the default traversal.
+    template <int W>
+    [[gnu::always_inline]] static bool sharesOneOctant(const typename Packet<W>::RayOnly& r, const int* valid) {
+        constexpr float kMin = 0x1p-20f;
+        int first = -1;
+        for (int l = 0; l < W && first < 0; ++l)
+            if (valid[l]) first = l;
+        if (first < 0) return false;
+        const bool nx = r.dir_x[first] < 0.f, ny = r.dir_y[first] < 0.f, nz = r.dir_z[first] < 0.f;
+        int differ = 0;
+        for (int l = 0; l < W; ++l) {
+            const float x = r.dir_x[l], y = r.dir_y[l], z = r.dir_z[l];
+            const int small = int(!(std::fabs(x) >= kMin)) | int(!(std::fabs(y) >= kMin)) | int(!(std::fabs(z) >= kMin));
+            const int sign = int((x < 0.f) != nx) | int((y < 0.f) != ny) | int((z < 0.f) != nz);
+            differ |= valid[l] & (small | sign);
+        }
+        return differ == 0;
     }
 
     // The closest-hit query of a loaded packet whose valid lanes ok[] marks
-    // (the others hold the idle ray); writes the first n answers.
+    // (the others hold the idle ray); writes the first n answers. coherent:
+    // the lanes are a block of camera rays (Accelerator::intersectLanes), for
+    // Embree's coherent traversal where sharesOneOctant allows it.
     template <int W>
     [[gnu::always_inline]] void answerPacket(typename Packet<W>::RayHit& rh, const int* ok, int n,
-                                             std::optional<PrimIntersection>* out) const {
+                                             std::optional<PrimIntersection>* out, bool coherent = false) const {
         alignas(64) int valid[W];
         int any = 0;
         for (int l = 0; l < W; ++l) {
@@ -392,6 +419,7 @@ public:
         if (any && hasEmbreeGeometry_ && keepLanesInRootBounds<W>(rh.ray, query)) {
             RTCIntersectContext ctx;
             rtcInitIntersectContext(&ctx);
+            if (coherent && sharesOneOctant<W>(rh.ray, query)) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
             Packet<W>::intersect(query, rtcScene_.get(), &ctx, &rh);
         }
         // Planes after Embree, each against the lane's closest hit so far

@@ -721,5 +721,70 @@ TEST_P(EachAcceleratorBatch, BatchedQueriesMatchSingleRays) {
 PENUMBRA_FOR_BOTH_ACCELERATORS(EachAcceleratorWatertight);
 PENUMBRA_FOR_BOTH_ACCELERATORS(EachAcceleratorBatch);
 
+
+// The camera-ray packets (Accelerator::intersectLanes, which Embree answers
+// with its coherent traversal) give the answers of the single-ray query (the
+// same primitive, t within a few ulps, most bit for bit): a
+// 4 x 4 block of neighbouring pixels per packet, as the renderer sends them,
+// from eyes on the axes (so that some rays run along an axis or parallel to
+// an axis plane), on the planes of the scene's boxes and meshes, and aimed at
+// the edges and corners of triangle cubes, where neighbouring primitives meet
+// at one distance; lanes with tiny direction components are mixed in.
+TEST_P(EachAcceleratorBatch, CameraPacketsAnswerAsSingleRays) {
+    FlushDenormalsScope ftz;
+    Scene scene = makeRandomScene(11);
+    scene.meshes.push_back(makeTriangleCube({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}));
+    scene.finalize(quietLogger());
+    const auto acc = makeAccelerator(GetParam(), scene);
+    Rng rng(17);
+    struct View {
+        Vec3f eye, lookAt;
+    };
+    const View views[] = {{{0.f, 0.f, 28.f}, {0.f, 0.f, 0.f}},  {{28.f, 0.f, 0.f}, {0.f, 0.f, 0.f}},
+                          {{0.f, 25.f, 0.5f}, {0.f, 0.f, 0.5f}}, {{1.f, 1.f, 12.f}, {1.f, 1.f, 0.f}},
+                          {{-1.f, 0.f, 6.f}, {-1.f, 0.f, 1.f}},  {{-20.f, 10.f, 20.f}, {0.f, 2.f, 0.f}},
+                          {{3.f, -1.f, 9.f}, {1.f, 1.f, 1.f}}};
+    size_t lanes = 0, hits = 0, coherentExact = 0;
+    for (const View& v : views) {
+        const int w = 24, h = 16;
+        const std::vector<Ray> rays = cameraRays(w, h, v.eye, v.lookAt, rng);
+        for (int by = 0; by < h; by += 4)
+            for (int bx = 0; bx < w; bx += 4) {
+                RayLanes packet;
+                Ray block[RayLanes::kWidth];
+                for (int l = 0; l < RayLanes::kWidth; ++l) {
+                    Ray r = rays[size_t(by + l / 4) * size_t(w) + size_t(bx + l % 4)];
+                    // Some lanes straight at the unit cube's edges and corners, and some
+                    // with a direction component at or near zero.
+                    if (l == 5) r.d = normalize(Vec3f{1.f, 1.f, 0.f} - r.o);
+                    if (l == 6) r.d = normalize(Vec3f{-1.f, 1.f, 1.f} - r.o);
+                    if (l == 9) r.d = normalize(Vec3f{r.d.x, 1e-30f, r.d.z});
+                    if (l == 10) r.d = normalize(Vec3f{1e-12f, r.d.y, r.d.z});
+                    block[l] = r;
+                    packet.set(l, r);
+                    packet.active[l] = 1;
+                }
+                EmptyOptionals<Hit, RayLanes::kWidth> got;
+                Ray back[RayLanes::kWidth];
+                acc->intersectLanes(packet, std::span<std::optional<Hit>>(got.data(), RayLanes::kWidth), back);
+                for (int l = 0; l < RayLanes::kWidth; ++l) {
+                    const std::optional<Hit> want = acc->intersect(block[l]);
+                    ++lanes;
+                    ASSERT_EQ(got[l].has_value(), want.has_value())
+                        << acc->name() << " eye " << v.eye.x << "," << v.eye.y << "," << v.eye.z << " lane " << l;
+                    if (!want) continue;
+                    ++hits;
+                    EXPECT_EQ(got[l]->ref, want->ref) << acc->name() << " lane " << l;
+                    // The coherent traversal's quad test rounds differently: a few ulps.
+                    EXPECT_NEAR(got[l]->t, want->t, 4e-7f * want->t) << acc->name() << " lane " << l;
+                    coherentExact += got[l]->t == want->t;
+                }
+            }
+    }
+    // Most rays meet something: the comparison is about hits, not empty space.
+    EXPECT_GT(hits, lanes / 2);
+    EXPECT_GT(coherentExact, hits * 9 / 10);
+}
+
 }  // namespace
 }  // namespace penumbra

@@ -767,6 +767,29 @@ TEST_P(EachAcceleratorBatch, CameraPacketsAnswerAsSingleRays) {
                 EmptyOptionals<Hit, RayLanes::kWidth> got;
                 Ray back[RayLanes::kWidth];
                 acc->intersectLanes(packet, std::span<std::optional<Hit>>(got.data(), RayLanes::kWidth), back);
+                // The same rays in other lanes, with one lane idle (as the blocks at a tile's
+                // edge have): each ray's answer is its own, bit for bit, whatever shares its
+                // packet (films do not depend on the tile size).
+                // Every other lane's companion is a ray of the view's far corner.
+                RayLanes moved;
+                for (int l = 0; l < RayLanes::kWidth; ++l) {
+                    moved.set((l + 5) % RayLanes::kWidth, block[l]);
+                    moved.active[(l + 5) % RayLanes::kWidth] = l != 2;
+                    if (l % 2 == 1) {
+                        const int fx = w - 1 - (bx + l % 4), fy = h - 1 - (by + l / 4);
+                        moved.set((l + 4) % RayLanes::kWidth, rays[size_t(fy) * size_t(w) + size_t(fx)]);
+                    }
+                }
+                EmptyOptionals<Hit, RayLanes::kWidth> again;
+                acc->intersectLanes(moved, std::span<std::optional<Hit>>(again.data(), RayLanes::kWidth), back);
+                for (int l = 0; l < RayLanes::kWidth; ++l) {
+                    if (l == 2 || l % 2 == 0) continue;  // even lanes were replaced
+                    const std::optional<Hit>& a = again[size_t((l + 5) % RayLanes::kWidth)];
+                    ASSERT_EQ(a.has_value(), got[l].has_value()) << acc->name() << " lane " << l;
+                    if (!a) continue;
+                    EXPECT_EQ(a->ref, got[l]->ref) << acc->name() << " lane " << l;
+                    EXPECT_EQ(a->t, got[l]->t) << acc->name() << " lane " << l;
+                }
                 for (int l = 0; l < RayLanes::kWidth; ++l) {
                     const std::optional<Hit> want = acc->intersect(block[l]);
                     ++lanes;

@@ -740,7 +740,7 @@ PENUMBRA_LANE_CLONES void Integrator::radianceBatch(std::span<const Ray> cameraR
         // as a whole (8 + 4 bytes) could not take the values from those
         // stores (store forwarding) and waited for them to reach the cache.
         const float r = lanes[i].L.r, g = lanes[i].L.g, b = lanes[i].L.b;
-        const bool finite = std::isfinite(r) && std::isfinite(g) && std::isfinite(b);
+        const bool finite = Rgb{r, g, b}.isFinite();
         nonFinite += finite ? 0 : 1;
         radiance[i].r = finite ? r : 0.f;
         radiance[i].g = finite ? g : 0.f;

@@ -14,6 +14,7 @@ B/A, and whether the two builds' images were the same bytes in every round.
 Exits non-zero when a render fails.
 """
 import argparse
+import shlex
 import datetime
 import filecmp
 import os
@@ -63,7 +64,7 @@ def main():
 
     print(f"date: {datetime.datetime.now(datetime.timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}")
     print(f"machine: {cpu_model()}, {os.cpu_count()} hardware threads, load {os.getloadavg()[0]:.2f}")
-    print(f"command: scripts/ab_builds.py {' '.join(sys.argv[1:])}")
+    print(f"command: {shlex.join(['scripts/ab_builds.py', *sys.argv[1:]])}")
     print(f"A: {labels['A']}\nB: {labels['B']}")
     times = {"A": [], "B": []}
     same = True

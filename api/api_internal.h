@@ -97,7 +97,6 @@ struct Access {
     static const Framebuffer::Impl& of(const Framebuffer& f) { return *f.impl_; }
     static const pn::Logger& log(const Renderer& r) { return r.impl_->log; }
     static void set(RenderJob& j, std::unique_ptr<RenderJob::Impl> impl) { j.impl_ = std::move(impl); }
-    static ImageEncoder::Impl* of(const ImageEncoder& e) { return e.impl_.get(); }
 };
 }  // namespace detail
 

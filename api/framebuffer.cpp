@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "core/image_encoder_process.h"
 #include "core/image_io.h"
 
 namespace pnb {
@@ -220,16 +219,6 @@ Framebuffer Framebuffer::deserialize(const std::uint8_t* data, std::size_t size)
     return f;
 }
 
-struct ImageEncoder::Impl {
-    std::unique_ptr<pn::ImageEncoderProcess> process;
-};
-
-ImageEncoder::ImageEncoder() : impl_(std::make_unique<Impl>()) { impl_->process = pn::ImageEncoderProcess::start(); }
-
-ImageEncoder::~ImageEncoder() = default;
-
-bool ImageEncoder::running() const noexcept { return impl_->process && impl_->process->pid() > 0; }
-
 void Framebuffer::writeImage(const std::string& path, const ImageOptions& options) const {
     guarded([&] {
         require(impl_->film.width() > 0, path + ": cannot write an empty framebuffer");
@@ -237,7 +226,6 @@ void Framebuffer::writeImage(const std::string& path, const ImageOptions& option
         pn::ImageWriteOptions wo;
         wo.exposure = options.exposure;
         wo.aovs = options.aovs;
-        if (options.encoder) wo.encoder = Access::of(*options.encoder)->process.get();
         // A crop's EXR says where its pixels lie in the full frame.
         const pn::CropWindow& w = impl_->film.window();
         wo.dataOriginX = w.x0;

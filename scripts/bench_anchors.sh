@@ -5,7 +5,8 @@
 #   * POV-Ray 3.7 against Penumbra on room.pov / room.json, whole processes,
 #     interleaved (POV, Penumbra, POV, Penumbra, ...), median of the pair-wise
 #     ratios of wall time and of CPU time (user + sys);
-#   * `penumbra --help` wall time and the peak memory of a 32-triangle render.
+#   * `penumbra --help` wall time and the peak memory of a 32-triangle render
+#     written to PFM (a process that loads no image library).
 # Writes JSON (every run's raw figures) to $OUT (default bench_anchors.json)
 # and a human-readable log to stdout. Installs Debian's povray when missing
 # (as root); without it the POV-Ray rows are skipped and say so.
@@ -79,7 +80,7 @@ for i in $(seq 1 10); do fresh_libs; timed help penumbra -- "$penumbra" --help; 
 for i in $(seq 1 3); do
   fresh_libs
   timed cornell32 penumbra -- "$penumbra" "$here/assets/cornell/cornell.obj" --width 64 --height 64 --spp 1 \
-    -o "$tmp/c.png" -q --stats-json "$tmp/stats.json"
+    -o "$tmp/c.pfm" -q --stats-json "$tmp/stats.json"
 done
 
 echo "textbook scenes (render time per camera sample from --stats-json)" >&2

@@ -45,12 +45,6 @@ bool isExr(const fs::path& p) {
     return e == ".exr";
 }
 
-bool needsImageLibrary(const Options& o) {
-    std::string e = o.output.extension().string();
-    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return e != ".pfm" || o.aovs;
-}
-
 std::vector<OutputFile> outputsOf(const Options& o) {
     std::vector<OutputFile> out{{o.output, "-o"}};
     if (o.aovs && !isExr(o.output))

@@ -19,9 +19,6 @@ namespace penumbra::cli {
 /// The path names an OpenEXR file (by its extension, any case).
 bool isExr(const std::filesystem::path& p);
 
-/// Whether writing the command's images takes OpenImageIO: every format but a PFM without AOVs.
-bool needsImageLibrary(const Options& o);
-
 /// What the command writes: -o, its `<stem>.aovs.exr` sibling (AOVs with a
 /// format other than EXR), --stats-json.
 std::vector<OutputFile> outputsOf(const Options& o);

@@ -93,11 +93,6 @@ uint64_t peakImageBytes(const pnb::RenderSettings& s, bool exrWithAovs) {
 // says nothing about where).
 int runSteps(const Options& o, std::string& step) {
     const auto t0 = std::chrono::steady_clock::now();
-    // OpenImageIO loads in a helper process while the scene loads and renders
-    // (a PFM alone needs no image library). Started first, while this
-    // process has one thread.
-    std::optional<pnb::ImageEncoder> encoder;
-    if (needsImageLibrary(o)) encoder.emplace();
     precheckOptions(o);
 
     pnb::Renderer renderer;  // warnings and errors to stderr
@@ -151,7 +146,6 @@ int runSteps(const Options& o, std::string& step) {
     pnb::ImageOptions wo;
     wo.exposure = o.exposure;
     wo.aovs = o.aovs;
-    if (encoder) wo.encoder = &*encoder;
     step = o.output.string() + ": out of memory while writing the image";
     image.writeImage(o.output.string(), wo);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -32,28 +32,32 @@ void copyInto(const std::vector<float>& src, float* dst, size_t floatCount, cons
 
 Framebuffer::Framebuffer() : impl_(std::make_unique<Impl>()) {}
 
-Framebuffer::Framebuffer(const RenderSettings& settings) {
-    impl_ = guarded([&] {
-        const RenderSettings& s = settings;
-        pn::validateSettings(s);
-        const CropWindow w = windowOf(s);
-        const uint64_t bytes = pn::Film::bytesNeeded(int64_t(w.x1 - w.x0) * (w.y1 - w.y0), s.aovs);
-        const uint64_t ram = physicalMemoryBytes();
-        if (ram && bytes > ram / 2)
-            fail(ErrorCode::OutOfMemory, "a " + std::to_string(w.x1 - w.x0) + "x" + std::to_string(w.y1 - w.y0) +
-                                             " framebuffer needs " + std::to_string(bytes >> 20) +
-                                             " MiB, more than half of this machine's memory");
-        auto impl = std::make_unique<Impl>();
-        impl->film = pn::makeFilm(s);
-        impl->seed = s.seed;
-        return impl;
+Framebuffer newFramebuffer(const RenderSettings& s) {
+    const CropWindow w = renderWindow(s);
+    const uint64_t bytes = pn::Film::bytesNeeded(int64_t(w.x1 - w.x0) * (w.y1 - w.y0), s.aovs);
+    const uint64_t ram = physicalMemoryBytes();
+    if (ram && bytes > ram / 2)
+        fail(ErrorCode::OutOfMemory, "a " + std::to_string(w.x1 - w.x0) + "x" + std::to_string(w.y1 - w.y0) +
+                                         " framebuffer needs " + std::to_string(bytes >> 20) +
+                                         " MiB, more than half of this machine's memory");
+    Framebuffer image;
+    FramebufferImpl& impl = Access::of(image);
+    impl.film = pn::makeFilm(s);
+    impl.seed = s.seed;
+    return image;
+}
+
+Framebuffer::Framebuffer(const RenderSettings& settings) : impl_(std::make_unique<Impl>()) {
+    guarded([&] {
+        pn::validateSettings(settings);
+        *this = newFramebuffer(settings);
     });
 }
 
 std::uint64_t Framebuffer::bytesNeeded(const RenderSettings& settings) {
     return guarded([&] {
         pn::validateSettings(settings);
-        const CropWindow w = windowOf(settings);
+        const CropWindow w = renderWindow(settings);
         return pn::Film::bytesNeeded(int64_t(w.x1 - w.x0) * (w.y1 - w.y0), settings.aovs);
     });
 }

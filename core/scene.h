@@ -111,11 +111,9 @@ public:
         return h;
     }
     /// The same, written into h in place (every field; the renderer's batches).
-    /// ref by reference: taken by value, it arrived in two registers, was
-    /// spilled as two 8-byte stores and read back for h.ref as one 16-byte
-    /// load, which the CPU cannot forward from two stores: a stall on every
-    /// hit (textbook_fig18_04.json renders in 0.973x the time this way; 12
-    /// rounds, fresh copies, same bits).
+    /// ref by reference: by value it is spilled as two 8-byte stores and read
+    /// back as one 16-byte load, which the CPU cannot forward from two stores
+    /// (docs/benchmarks.md, "No wide reload of narrow stores").
     void completeHit(const Ray& ray, const PrimRef& ref, float t, float u, float v, Hit& h) const;
     /// Whether material id has a texture, so that its hits need texture
     /// coordinates (Hit::uv); false for an id with no material.

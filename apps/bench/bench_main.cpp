@@ -61,7 +61,7 @@ SceneResult runScene(BenchScene bench, const BenchOptions& o, int threads, const
     r.name = bench.name;
     r.family = bench.family;
     const CameraDesc camera = bench.camera;
-    const PreparedScene prepared(std::move(bench.scene), PrepareOptions{"embree", BuildQuality::High}, log);
+    const PreparedScene prepared(std::move(bench.scene), PrepareOptions{AcceleratorKind::Embree, BuildQuality::High}, log);
     const Scene& scene = prepared.scene();
     r.prepareSeconds = prepared.buildSeconds();
     r.triangles = scene.triangleCount();
@@ -174,7 +174,7 @@ SceneResult runScene(BenchScene bench, const BenchOptions& o, int threads, const
     r.embree.frame = measureFrame(prepared, camera, st, threads, o.repetitions);
     const double naiveTests = double(r.embree.frame.rays.total()) * perRay;
     if (naiveTests <= kNaiveFrameBudget) {
-        const PreparedScene naivePrepared(Scene(scene), PrepareOptions{"naive", BuildQuality::High}, log);
+        const PreparedScene naivePrepared(Scene(scene), PrepareOptions{AcceleratorKind::Naive, BuildQuality::High}, log);
         r.naive.frame = measureFrame(naivePrepared, camera, st, threads, 1);
     } else {
         char note[128];

@@ -27,6 +27,17 @@ bool interpreterAlive() {
     throw pnb::Error(pnb::ErrorCode::Internal, std::string(which) + " callback raised " + what);
 }
 
+// prepare()'s accelerator: an AcceleratorKind, or its name as the command line spells it.
+pnb::AcceleratorKind acceleratorFrom(const py::handle& value) {
+    if (py::isinstance<py::str>(value)) {
+        const std::string s = value.cast<std::string>();
+        if (s == "embree") return pnb::AcceleratorKind::Embree;
+        if (s == "naive") return pnb::AcceleratorKind::Naive;
+        throw pnb::Error(pnb::ErrorCode::InvalidArgument, "accelerator must be 'embree' or 'naive', got '" + s + "'");
+    }
+    return value.cast<pnb::AcceleratorKind>();
+}
+
 // ---- resolving the arguments every render takes
 
 struct RenderArgs {
@@ -314,18 +325,18 @@ void bindRenderer(py::module_& m) {
             "file and line or JSON path.")
         .def(
             "prepare",
-            [](const pnb::Renderer& r, const pnb::Scene& scene, const std::string& accelerator,
+            [](const pnb::Renderer& r, const pnb::Scene& scene, const py::object& accelerator,
                pnb::BuildQuality quality) {
                 pnb::PrepareOptions o;
-                o.accelerator = accelerator;
+                o.accelerator = acceleratorFrom(accelerator);
                 o.quality = quality;
                 py::gil_scoped_release release;
                 return r.prepare(scene, o);
             },
-            py::arg("scene"), py::kw_only(), py::arg("accelerator") = "embree",
+            py::arg("scene"), py::kw_only(), py::arg("accelerator") = pnb::AcceleratorKind::Embree,
             py::arg("quality") = pnb::BuildQuality::High,
             "Validates the scene (repairs are logged and counted), builds its BVH and light tables. "
-            "accelerator: 'embree' or 'naive'.")
+            "accelerator: AcceleratorKind.Embree or .Naive (or 'embree', 'naive').")
         .def(
             "render",
             [](const pnb::Renderer& r, const py::object& scene, const py::object& camera, const py::object& settings,

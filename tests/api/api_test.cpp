@@ -772,9 +772,9 @@ TEST(ApiErrors, BadSettingsCamerasAndHandlesAreInvalidArguments) {
     EXPECT_EQ(codeOf([&] { renderer.renderAsync(empty, sphereCamera(), smallSettings()); }),
               pnb::ErrorCode::InvalidArgument);
     pnb::PrepareOptions po;
-    po.accelerator = "octree";
+    po.accelerator = static_cast<pnb::AcceleratorKind>(7);
     EXPECT_EQ(codeOf([&] { renderer.prepare(litSphere(), po); }, &msg), pnb::ErrorCode::InvalidArgument);
-    EXPECT_NE(msg.find("unknown accelerator 'octree'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("accelerator 7 is not an AcceleratorKind"), std::string::npos) << msg;
 }
 
 TEST(ApiErrors, HugeFramebuffersAreOutOfMemoryNotACrash) {

@@ -9,6 +9,8 @@
 #include <penumbra/penumbra.hpp>
 #include <vector>
 
+#include "support/both_accelerators.h"
+
 namespace {
 
 pnb::Renderer quietRenderer() {
@@ -149,7 +151,7 @@ ImageDiff compare(const std::vector<float>& a, const std::vector<float>& b) {
     return d;
 }
 
-class InstancedImage : public ::testing::TestWithParam<std::string> {};
+class InstancedImage : public penumbra::test::ForBothAccelerators {};
 
 // Not bit-identical, by design: an instance is intersected in its object
 // space (the ray taken there by the inverse transform) while the copy is
@@ -174,7 +176,7 @@ TEST_P(InstancedImage, InstancedAndCopiedMeshesRenderTheSameImage) {
     const auto a = renderer.render(copied, lumpyCamera(), st).rgba();
     const auto b = renderer.render(instanced, lumpyCamera(), st).rgba();
     const ImageDiff d = compare(a, b);
-    std::cout << "[instanced vs copied, " << GetParam() << "] " << d.differing << " of " << d.pixels
+    std::cout << "[instanced vs copied, " << copied.accelerator() << "] " << d.differing << " of " << d.pixels
               << " pixels differ by > 1e-3, mean abs difference " << d.meanAbs << ", max " << d.maxAbs << "\n";
     double mean = 0.0;
     for (size_t p = 0; p < a.size(); p += 4) mean += a[p];
@@ -185,8 +187,7 @@ TEST_P(InstancedImage, InstancedAndCopiedMeshesRenderTheSameImage) {
     EXPECT_LT(d.meanAbs, 1e-5);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothAccelerators, InstancedImage, ::testing::Values(std::string("naive"), std::string("embree")),
-                         [](const auto& info) { return info.param; });
+PENUMBRA_FOR_BOTH_ACCELERATORS(InstancedImage);
 
 TEST(InstanceApi, EmissiveInstancesAreLightsLikeCopies) {
     pnb::Scene s;

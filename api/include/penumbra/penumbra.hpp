@@ -219,7 +219,7 @@ private:
 // ---------------------------------------------------------------- prepared scene
 
 struct PrepareOptions {
-    std::string accelerator = "embree";  ///< "embree" or "naive" (the O(N) reference)
+    AcceleratorKind accelerator = AcceleratorKind::Embree;
     BuildQuality quality = BuildQuality::High;
 };
 

@@ -74,9 +74,9 @@ class SuiteScene:
 
 
 CORNELL_CAMERA = {"eye": [0, 1, 3.9], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov": 40}
-CORNELL_REGIONS = {
+CORNELL_REGIONS = {  # with CORNELL_CAMERA: patches of one surface each, clear of the light and the boxes
     "left wall": (0.08, 0.25, 0.16, 0.75), "right wall": (0.84, 0.25, 0.92, 0.75),
-    "back wall": (0.40, 0.15, 0.60, 0.30), "ceiling": (0.25, 0.02, 0.75, 0.07), "floor": (0.40, 0.90, 0.60, 0.97),
+    "back wall": (0.40, 0.20, 0.60, 0.38), "ceiling": (0.20, 0.05, 0.38, 0.12), "floor": (0.20, 0.90, 0.45, 0.97),
 }
 
 
@@ -96,8 +96,8 @@ SCENES = [
                many_lights, 160, 120, 16, {"eye": [0, 4, 14], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov": 45}),
     SuiteScene("cornell_sphere", "McGuire CornellBox-Sphere, mirror and glass made Lambert",
                bc.SHARED / "scenes/cornell_mcguire/CornellBox-Sphere.obj", 256, 256, 64, CORNELL_CAMERA,
-               regions={"left wall": (0.08, 0.25, 0.16, 0.6), "right wall": (0.84, 0.25, 0.92, 0.6),
-                        "back wall": (0.40, 0.15, 0.60, 0.30)}),
+               regions={"left wall": (0.08, 0.30, 0.16, 0.60), "right wall": (0.84, 0.30, 0.92, 0.60),
+                        "back wall": (0.40, 0.35, 0.60, 0.55), "floor": (0.40, 0.92, 0.60, 0.97)}),
     SuiteScene("sponza", "Sponza (Dabrovic), textured, under hdri_polyhaven/adams_place_bridge_1k.hdr",
                bc.SHARED / "scenes/sponza_dabrovic/sponza.obj", 256, 192, 64,
                {"eye": [-8, 3, 0], "look_at": [8, 6, 0], "up": [0, 1, 0], "fov": 75},

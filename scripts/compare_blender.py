@@ -7,7 +7,7 @@ and prints how far apart the two images are.
                                [--penumbra BUILD_DIR]
     scripts/compare_blender.py --gallery [MODEL ...] [same options; --out defaults to docs/gallery/cycles]
 
-MODEL is anything Blender imports with its own importer: glTF/GLB (Khronos' importer, onto the
+MODEL is a glTF/GLB file (read by Khronos' importer in Blender, onto the
 Principled BSDF) or OBJ/MTL (Blender's OBJ importer). Each renderer keeps its own reading of the
 materials: this compares what a user gets. Installs Debian's `blender` when missing (as root).
 
@@ -178,6 +178,9 @@ def main():
     missing = [str(m) for m in models if not m.is_file()]
     if missing:
         ap.error("no such file: " + ", ".join(missing))
+    other = [str(m) for m in models if m.suffix.lower() not in (".gltf", ".glb", ".obj")]
+    if other:
+        ap.error("only glTF, GLB and OBJ models are compared: " + ", ".join(other))
     if min(args.width, args.height, args.spp, args.max_depth) < 1 or args.threads < 0:
         ap.error("--width, --height, --spp and --max-depth must be at least 1, --threads at least 0")
     try:

@@ -2,10 +2,9 @@
 # The anchor rows of issue 14, taken side by side on this machine:
 #   * textbook scenes (../shared/bench/textbook_*.json): Penumbra's render time
 #     per camera sample per thread, 1 and 2 threads (from --stats-json);
-#   * POV-Ray 3.7 against Penumbra on room.pov / room.json and on Figure 24.6
-#     (assets/scenes/bench/textbook_fig24_06.pov / textbook_fig24_06.json),
-#     whole processes, interleaved (POV, Penumbra, POV, Penumbra, ...), median
-#     of the pair-wise ratios of wall time and of CPU time (user + sys);
+#   * POV-Ray 3.7 against Penumbra on the room and Figure 24.6, whole processes,
+#     interleaved (POV, Penumbra, POV, Penumbra, ...), median of the pair-wise
+#     ratios of wall time and of CPU time (user + sys);
 #   * `penumbra --help` wall time and the peak memory of a 32-triangle render.
 # Writes JSON (every run's raw figures) to $OUT (default bench_anchors.json)
 # and a human-readable log to stdout. Installs Debian's povray when missing

@@ -182,13 +182,16 @@ def main():
             out.append(f"| `{scene}.json` | {t} | {fmt(p['ns'], 0)} | {fmt(p['cpu_ns'], 0)} | {fmt(p['render'])} | "
                        f"{fmt(p['wall'])} |\n")
     if pov:
-        out.append(f"\nPOV-Ray ({anchors['povray']}) against Penumbra on `room.pov` / `room.json`, 512×512, 2 threads "
-                   "each, whole processes, interleaved pairs (medians):\n\n")
-        out.append("| POV-Ray switches | Penumbra options | POV wall s | Penumbra wall s | ratio (wall) | "
-                   "POV CPU s | Penumbra CPU s | ratio (CPU) |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n")
+        out.append(f"\nPOV-Ray ({anchors['povray']}) against Penumbra on `room.pov` / `room.json` (512×512) and on "
+                   "Figure 24.6 (`assets/scenes/bench/textbook_fig24_06.pov` / `textbook_fig24_06.json`, 600×400), "
+                   "2 threads each, whole processes, interleaved pairs (medians):\n\n")
+        out.append("| scene | POV-Ray switches | Penumbra options | POV wall s | Penumbra wall s | ratio (wall) | "
+                   "POV CPU s | Penumbra CPU s | ratio (CPU) |\n"
+                   "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n")
         for p in pov.values():
             c = p["config"]
-            out.append(f"| `{c['povray']}` | `{c['penumbra']}` | {fmt(p['pov_wall'])} | {fmt(p['pen_wall'])} | "
+            out.append(f"| {c.get('scene', 'room')} | `{c['povray']}` | `{c['penumbra']}` | {fmt(p['pov_wall'])} | "
+                       f"{fmt(p['pen_wall'])} | "
                        f"{fmt(p['wall_ratio'])} | {fmt(p['pov_cpu'])} | {fmt(p['pen_cpu'])} | {fmt(p['cpu_ratio'])} |\n")
 
     out.append("\n### penumbra-bench ratios per scene\n\n")

@@ -309,6 +309,21 @@ TEST_F(BadInput, ObjNonFiniteCoordinates) {
     expectFiniteImage();
 }
 
+// A JSON file whose nested prototypes would copy 2^41 triangles fails quickly,
+// naming the file and the count, instead of running out of memory.
+TEST_F(BadInput, ExpansionBombFailsCleanlyAndQuickly) {
+    std::string prototypes = R"({"name": "p0", "shapes": [{"type": "mesh", "vertices": [[0,0,0],[1,0,0],[0,1,0]], "indices": [0,1,2]}]})";
+    for (int i = 1; i <= 40; ++i) {
+        const std::string below = "\"p" + std::to_string(i - 1) + "\"";
+        prototypes += ", {\"name\": \"p" + std::to_string(i) + "\", \"shapes\": [{\"type\": \"instance\", \"prototype\": " +
+                      below + "}, {\"type\": \"instance\", \"prototype\": " + below + "}]}";
+    }
+    write("bomb.json", "{\"prototypes\": [" + prototypes + "], \"shapes\": [{\"type\": \"instance\", \"prototype\": \"p40\"}]}");
+    const RunResult r = run(in("bomb.json") + out());
+    expectCleanFailure(r, {"bomb.json", "2199023255550 triangles"});
+    EXPECT_LT(r.seconds, 10.0);
+}
+
 TEST_F(BadInput, ObjMalformedNumbers) {
     // A coordinate that is not a number drops its faces (strict: an error naming the face's line).
     write("num.obj", "v 1.0.0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

@@ -89,7 +89,9 @@ std::vector<std::string> SceneReader::prototypeOrder(const Json& j) const {
                 stack.pop_back();
                 continue;
             }
-            const auto [name, where] = top.placed[top.next++];
+            // Named copies, not structured bindings: clang 14 (the fuzz build) cannot capture those.
+            const std::string name = top.placed[top.next].first, where = top.placed[top.next].second;
+            ++top.next;
             resolvePrototype(name, where, false);  // refuses unknown names
             const auto mark = marks.find(name);
             if (mark != marks.end() && mark->second == Mark::Open) {

@@ -16,7 +16,8 @@
 
 namespace {
 
-constexpr std::array<std::string_view, 8> kFormats = {"ply", "stl", "gltf", "glb", "off", "dae", "fbx", "3ds"};
+// Appended formats keep the earlier ones' first bytes (the seeds use 0 to 9).
+constexpr std::array<std::string_view, 10> kFormats = {"ply", "stl", "gltf", "glb", "off", "dae", "fbx", "3ds", "x", "ac"};
 
 // Not fuzzed: Assimp 5.2.5's COLLADA reader dereferences null when an accessor
 // reads a <float_array> with fewer values than it needs (count="&":

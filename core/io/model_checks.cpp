@@ -1,5 +1,6 @@
 #include "core/io/model_checks.h"
 
+#include "core/io/fbx_checks.h"
 #include "core/io/gltf_checks.h"
 #include "core/io/nesting_checks.h"
 #include "core/io/off_checks.h"
@@ -14,7 +15,7 @@ std::optional<std::string> modelFileProblem(const std::string& format, const std
     if (format == "stl") return stlTextProblem(bytes);
     if (format == "gltf" || format == "glb") return gltfProblem(bytes);
     if (format == "off") return offHeaderProblem(bytes);
-    if (format == "fbx") return fbxNestingProblem(bytes);
+    if (format == "fbx") return fbxProblem(bytes);
     if (format == "x") return xFileNestingProblem(bytes);
     if (format == "ac" || format == "acc" || format == "ac3d") return ac3dNestingProblem(bytes);
     if (format == "dae") return xmlModelProblem(bytes, true);

@@ -7,76 +7,8 @@
 namespace penumbra {
 namespace {
 
-uint64_t littleEndian(std::string_view b, size_t at, size_t bytes) {
-    uint64_t v = 0;
-    for (size_t i = bytes; i-- > 0;) v = (v << 8) | static_cast<unsigned char>(b[at + i]);
-    return v;
-}
-
 std::string lineOf(std::string_view b, size_t at) {
     return "line " + std::to_string(1 + std::count(b.begin(), b.begin() + std::ptrdiff_t(at), '\n'));
-}
-
-/// Assimp's ASCII FBX tokenizer: text up to the first NUL, ';' comments to the
-/// end of the line, double-quoted strings, and '{' '}' as scope brackets.
-std::optional<std::string> fbxTextNesting(std::string_view b) {
-    size_t depth = 0;
-    bool comment = false, quoted = false;
-    for (size_t i = 0; i < b.size() && b[i] != '\0'; ++i) {
-        const char c = b[i];
-        if (c == '\n' || c == '\r') comment = false;
-        if (comment) continue;
-        if (quoted) {
-            quoted = c != '"';
-        } else if (c == '"') {
-            quoted = true;
-        } else if (c == ';') {
-            comment = true;
-        } else if (c == '{' && ++depth > kMaxModelNesting) {
-            return nestingProblem("FBX scopes", lineOf(b, i));
-        } else if (c == '}' && depth > 0) {
-            --depth;
-        }
-    }
-    return std::nullopt;
-}
-
-/// Assimp's binary FBX tokenizer (ReadScope), as a loop: each record holds its
-/// end offset, property count and length and a name; a record that ends after
-/// its properties holds nested records and a zero sentinel block. Where the
-/// tokenizer would fail, it stops before recursing, and so does the scan.
-std::optional<std::string> fbxBinaryNesting(std::string_view b) {
-    constexpr size_t kHeader = 27;  // magic, 5 bytes, the version at byte 23
-    if (b.size() < kHeader) return std::nullopt;
-    const bool wide = littleEndian(b, 23, 4) >= 7500;
-    const size_t word = wide ? 8 : 4, sentinel = wide ? 25 : 13;
-    std::vector<uint64_t> open;  // end offsets of the records whose nested records are being read
-    uint64_t at = kHeader;
-    for (;;) {
-        const uint64_t limit = open.empty() ? b.size() : open.back() - sentinel;
-        if (!open.empty() && at >= limit) {
-            at = open.back();
-            open.pop_back();
-            continue;
-        }
-        if (at + word > limit) return std::nullopt;
-        const uint64_t end = littleEndian(b, at, word);
-        at += word;
-        if (end == 0) {
-            if (open.empty()) return std::nullopt;  // the footer
-            continue;
-        }
-        if (end > limit || end < at || at + 2 * word + 1 > limit) return std::nullopt;
-        const uint64_t properties = littleEndian(b, at + word, word);
-        at += 2 * word;
-        at += 1 + static_cast<unsigned char>(b[at]) + properties;  // the name, then the properties
-        if (at > end) return std::nullopt;
-        if (at < end) {
-            if (end - at < sentinel) return std::nullopt;
-            open.push_back(end);
-            if (open.size() > kMaxModelNesting) return nestingProblem("FBX records", "byte " + std::to_string(at));
-        }
-    }
 }
 
 /// Text .x files: Assimp's parser recurses once per Frame, and every frame
@@ -253,11 +185,6 @@ void ac3dObject(Ac3dCursor& c) {
 std::string nestingProblem(const std::string& what, const std::string& where) {
     return what + " nest deeper than " + std::to_string(kMaxModelNesting) + " levels (" + where +
            "); Assimp's reader recurses once per level, so deeper files are refused";
-}
-
-std::optional<std::string> fbxNestingProblem(std::string_view bytes) {
-    if (bytes.substr(0, 18) == "Kaydara FBX Binary") return fbxBinaryNesting(bytes);
-    return fbxTextNesting(bytes);
 }
 
 std::optional<std::string> xFileNestingProblem(std::string_view bytes) {

@@ -1,7 +1,8 @@
 // How deep a model file nests, measured before Assimp reads it. Assimp 5.2.5's
-// readers recurse once per level of a file's nesting (FBX scopes, DirectX .x
-// frames, AC3D child objects, COLLADA nodes and XML elements; xml_checks.h has
-// the XML ones), and so do the node trees they build, so a file nested 100,000
+// readers recurse once per level of a file's nesting (FBX scopes and models,
+// DirectX .x frames, AC3D child objects, COLLADA nodes and XML elements;
+// fbx_checks.h and xml_checks.h have those formats' own), and so do the node
+// trees they build, so a file nested 100,000
 // deep overflows the stack. Each scan here walks the file once with a loop and
 // an explicit stack, reading it as Assimp's tokenizer does where that decides
 // the depth, and counts a level wherever it cannot be sure Assimp does not.
@@ -22,9 +23,6 @@ inline constexpr size_t kMaxModelNesting = 256;
 /// The message for a file that nests deeper than kMaxModelNesting: `what`
 /// ("FBX scopes") and where the limit was passed ("line 300").
 std::string nestingProblem(const std::string& what, const std::string& where);
-
-/// An ASCII or binary FBX file whose scopes nest deeper than kMaxModelNesting.
-std::optional<std::string> fbxNestingProblem(std::string_view bytes);
 
 /// A DirectX .x file whose braces nest deeper than kMaxModelNesting, or a
 /// binary or compressed one (their frames cannot be counted without

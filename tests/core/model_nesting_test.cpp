@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/io/fbx_checks.h"
 #include "core/io/nesting_checks.h"
 #include "core/io/scene_loader.h"
 #include "support/test_support.h"
@@ -149,9 +150,9 @@ TEST(ModelNesting, AsciiFbxScopesNestedHundredThousandDeepAreRefused) {
     const std::string head = "; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n FBXHeaderVersion: 1003\n}\n";
     expectRefused("deep.fbx", head + repeat("A: {\n", 100000) + repeat("}\n", 100000), {"FBX scopes nest deeper than 256"});
     // Braces in strings and comments are not scopes.
-    EXPECT_FALSE(fbxNestingProblem(head + repeat("A: \"{{{\" ; {{{\n", 1000)));
-    EXPECT_FALSE(fbxNestingProblem(head + repeat("A: {\n", 200) + repeat("}\n", 200)));
-    EXPECT_TRUE(fbxNestingProblem(head + repeat("A: {\n", 257)));
+    EXPECT_FALSE(fbxProblem(head + repeat("A: \"{{{\" ; {{{\n", 1000)));
+    EXPECT_FALSE(fbxProblem(head + repeat("A: {\n", 200) + repeat("}\n", 200)));
+    EXPECT_TRUE(fbxProblem(head + repeat("A: {\n", 257)));
 }
 
 /// A binary FBX (version 7400: 32-bit offsets) of records nested `depth`
@@ -173,11 +174,95 @@ std::string binaryFbx(size_t depth) {
 }
 
 TEST(ModelNesting, BinaryFbxRecordsNestedDeeperThanTheLimitAreRefused) {
-    EXPECT_FALSE(fbxNestingProblem(binaryFbx(100)));
-    const auto deep = fbxNestingProblem(binaryFbx(5000));
+    EXPECT_FALSE(fbxProblem(binaryFbx(100)));
+    const auto deep = fbxProblem(binaryFbx(5000));
     ASSERT_TRUE(deep);
     EXPECT_NE(deep->find("FBX records nest deeper than 256"), std::string::npos) << *deep;
     expectRefused("deep_binary.fbx", binaryFbx(100000), {"FBX records nest deeper than 256"});
+}
+
+/// An ASCII FBX 7.4 file of Model objects 1..n and the connections (child, parent).
+std::string fbxModels(size_t n, const std::vector<std::pair<size_t, size_t>>& connections) {
+    std::string s = "; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n FBXHeaderVersion: 1003\n FBXVersion: 7400\n}\n"
+                    "GlobalSettings:  {\n Version: 1000\n}\nObjects:  {\n";
+    for (size_t i = 1; i <= n; ++i)
+        s += " Model: " + std::to_string(i) + ", \"Model::m" + std::to_string(i) + "\", \"Null\" {\n  Version: 232\n }\n";
+    s += "}\nConnections:  {\n";
+    for (const auto& [child, parent] : connections)
+        s += " C: \"OO\"," + std::to_string(child) + "," + std::to_string(parent) + "\n";
+    return s + "}\n";
+}
+
+// Assimp converts the model hierarchy recursively, following the Connections
+// without looking for cycles: a model connected below itself, and a chain of
+// 100,000 models, each overflowed the stack.
+TEST(ModelNesting, FbxModelsConnectedInACycleOrTooDeepAreRefused) {
+    expectRefused("self.fbx", fbxModels(1, {{1, 0}, {1, 1}}), {"FBX model 1 is connected below itself"});
+    expectRefused("loop.fbx", fbxModels(3, {{1, 0}, {2, 1}, {3, 2}, {1, 3}}), {"connected below itself"});
+    std::vector<std::pair<size_t, size_t>> chain{{1, 0}};
+    for (size_t i = 2; i <= 100000; ++i) chain.emplace_back(i, i - 1);
+    expectRefused("chain.fbx", fbxModels(100000, chain), {"FBX models (through their Connections) nest deeper than 256"});
+    // 300 models side by side, and a chain of 200, are fine.
+    std::vector<std::pair<size_t, size_t>> wide, deep{{1, 0}};
+    for (size_t i = 1; i <= 300; ++i) wide.emplace_back(i, 0);
+    for (size_t i = 2; i <= 200; ++i) deep.emplace_back(i, i - 1);
+    EXPECT_FALSE(fbxProblem(fbxModels(300, wide)));
+    EXPECT_FALSE(fbxProblem(fbxModels(200, deep)));
+    // A triangle below two models still loads.
+    std::string tri = fbxModels(2, {{1, 0}, {2, 1}, {10, 2}});
+    tri.insert(tri.find("Objects:  {\n") + 12,
+               " Geometry: 10, \"Geometry::tri\", \"Mesh\" {\n  Vertices: *9 {\n   a: 0,0,0,1,0,0,0,1,0\n  }\n"
+               "  PolygonVertexIndex: *3 {\n   a: 0,1,-3\n  }\n  GeometryVersion: 124\n }\n");
+    EXPECT_EQ(load("triangle.fbx", tri).triangles, 1u) << load("triangle.fbx", tri).error;
+}
+
+/// A binary FBX record (version 7400): its properties already encoded.
+struct FbxRecord {
+    std::string name, properties;
+    uint32_t count = 0;
+    std::vector<FbxRecord> nested;
+};
+
+std::string encode(const FbxRecord& r, size_t at) {
+    std::string body = r.properties;
+    size_t inner = at + 13 + r.name.size() + body.size();
+    for (const FbxRecord& n : r.nested) {
+        const std::string e = encode(n, inner);
+        body += e;
+        inner += e.size();
+    }
+    if (!r.nested.empty()) body += std::string(13, '\0');
+    const uint32_t header[3] = {uint32_t(at + 13 + r.name.size() + body.size()), r.count, uint32_t(r.properties.size())};
+    return std::string(reinterpret_cast<const char*>(header), 12) + char(r.name.size()) + r.name + body;
+}
+
+std::string int64Property(int64_t v) {
+    std::string p(1, 'L');
+    p.append(reinterpret_cast<const char*>(&v), 8);
+    return p;
+}
+std::string stringProperty(const std::string& v) {
+    const uint32_t n = uint32_t(v.size());
+    std::string p(1, 'S');
+    p.append(reinterpret_cast<const char*>(&n), 4);
+    return p + v;
+}
+
+TEST(ModelNesting, BinaryFbxModelsConnectedInACycleAreRefused) {
+    std::string b = std::string("Kaydara FBX Binary  ") + '\0' + "\x1a" + '\0';
+    const uint32_t version = 7400;
+    b.append(reinterpret_cast<const char*>(&version), 4);
+    FbxRecord objects{"Objects", "", 0, {{"Model", int64Property(7) + stringProperty("m"), 2, {}}}};
+    FbxRecord connections{"Connections", "", 0, {{"C", stringProperty("OO") + int64Property(7) + int64Property(0), 3, {}}}};
+    const auto file = [&](const FbxRecord& c) {
+        std::string f = b + encode(objects, b.size());
+        return f + encode(c, f.size()) + std::string(13, '\0');
+    };
+    EXPECT_FALSE(fbxProblem(file(connections)));
+    connections.nested.push_back({"C", stringProperty("OO") + int64Property(7) + int64Property(7), 3, {}});
+    const auto problem = fbxProblem(file(connections));
+    ASSERT_TRUE(problem);
+    EXPECT_NE(problem->find("FBX model 7 is connected below itself"), std::string::npos) << *problem;
 }
 
 // ---- DirectX .x

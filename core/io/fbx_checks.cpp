@@ -49,30 +49,41 @@ bool space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 
 /// Assimp's ASCII tokenizer and parser: text up to the first NUL, ';'
 /// comments to the end of the line, double-quoted strings, a token followed
-/// by ':' is a key that starts an element, '{' '}' open and close its scope.
+/// by ':' is a key that starts an element, '{' '}' open and close its scope,
+/// and a '}' at the top level ends the file. Where Assimp's parser would
+/// throw, the file is refused: the parser leaks every scope it has built,
+/// and fuzzing cannot tell that leak from one of Penumbra's.
 void scanText(std::string_view b, Hierarchy& h) {
     b = b.substr(0, b.find('\0'));
     std::vector<std::string> scopes;
     Element e;
-    bool open = false;  // an element's header is being read
-    auto finish = [&] {
-        if (open) h.add(e);
-        open = false;
+    enum class Last { None, Key, Data, Comma } last = Last::None;  // in the element being read; None: between elements
+    const auto malformed = [&](size_t at, const std::string& what) {
+        throw Invalid{lineOf(b, at) + ": " + what + " (not an FBX scope, element or value)"};
+    };
+    const auto finish = [&] {
+        if (last != Last::None) h.add(e);
+        last = Last::None;
     };
     for (size_t i = 0; i < b.size();) {
         const char c = b[i];
-        if (space(c) || c == ',') {
+        if (space(c)) {
             ++i;
         } else if (c == ';') {
             while (i < b.size() && b[i] != '\n' && b[i] != '\r') ++i;
-        } else if (c == '{') {
-            finish();
-            scopes.push_back(e.key);
-            if (scopes.size() > kMaxModelNesting) throw Invalid{nestingProblem("FBX scopes", lineOf(b, i))};
+        } else if (c == ',' || c == '{') {
+            if (last == Last::None) malformed(i, std::string("'") + c + "' where a key was expected");
+            if (c == ',') last = Last::Comma;
+            if (c == '{') {
+                finish();
+                scopes.push_back(e.key);
+                if (scopes.size() > kMaxModelNesting) throw Invalid{nestingProblem("FBX scopes", lineOf(b, i))};
+            }
             ++i;
         } else if (c == '}') {
             finish();
-            if (!scopes.empty()) scopes.pop_back();
+            if (scopes.empty()) return;  // Assimp's parser stops here
+            scopes.pop_back();
             ++i;
         } else {
             const size_t from = i;
@@ -85,15 +96,21 @@ void scanText(std::string_view b, Hierarchy& h) {
             size_t next = i;
             while (next < b.size() && space(b[next])) ++next;
             if (next < b.size() && b[next] == ':') {
+                if (token.empty()) malformed(next, "a ':' without a key");
                 finish();
                 e = Element{token, scopes.empty() ? std::string() : scopes.back(), {}};
-                open = true;
+                last = Last::Key;
                 i = next + 1;
-            } else if (open && e.values.size() < 3) {
-                e.values.push_back(token);
+            } else {
+                if (last == Last::None) malformed(from, "a value where a key was expected");
+                if (last == Last::Data) malformed(from, "two values without a comma between them");
+                if (e.values.size() < 3) e.values.push_back(token);
+                last = Last::Data;
             }
         }
     }
+    if (last == Last::Key || last == Last::Comma) malformed(b.size(), "the file ends inside an element");
+    if (!scopes.empty()) malformed(b.size(), "the file ends inside " + std::to_string(scopes.size()) + " scope(s)");
     finish();
 }
 

@@ -14,8 +14,10 @@
 namespace penumbra {
 
 /// Why Assimp must not read these bytes as FBX, or nullopt: scopes (ASCII) or
-/// records (binary) nested deeper than kMaxModelNesting, Model objects whose
-/// connections form a cycle, or a model hierarchy deeper than kMaxModelNesting.
+/// records (binary) nested deeper than kMaxModelNesting, ASCII that Assimp's
+/// parser would throw on (it leaks the scopes it has built), Model objects
+/// whose connections form a cycle, or a model hierarchy deeper than
+/// kMaxModelNesting.
 std::optional<std::string> fbxProblem(std::string_view bytes);
 
 }  // namespace penumbra

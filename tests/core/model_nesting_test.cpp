@@ -153,6 +153,10 @@ TEST(ModelNesting, AsciiFbxScopesNestedHundredThousandDeepAreRefused) {
     EXPECT_FALSE(fbxProblem(head + repeat("A: \"{{{\" ; {{{\n", 1000)));
     EXPECT_FALSE(fbxProblem(head + repeat("A: {\n", 200) + repeat("}\n", 200)));
     EXPECT_TRUE(fbxProblem(head + repeat("A: {\n", 257)));
+    // Where Assimp's parser would throw (leaking the scopes it has built), the file is refused first.
+    expectRefused("values.fbx", head + "A: {\n B: 1 2\n}\n", {"line 6", "two values without a comma"});
+    expectRefused("open.fbx", head + "A: {\n B: 1\n", {"ends inside 1 scope(s)"});
+    expectRefused("keyless.fbx", head + "A: {\n 1, 2\n}\n", {"a value where a key was expected"});
 }
 
 /// A binary FBX (version 7400: 32-bit offsets) of records nested `depth`

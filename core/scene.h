@@ -92,8 +92,16 @@ public:
     /// materials gets the default grey one. Instances with an unknown or empty
     /// prototype or a non-finite or singular transform are dropped; instances
     /// of emissive prototypes (or with an emissive material override) are
-    /// expanded into world-space meshes (core/instance.h). Idempotent.
+    /// expanded into world-space meshes (core/instance.h); throws
+    /// Error(InvalidScene) when those copies would pass CopyCount's limit.
+    /// Idempotent.
     SceneFixups finalize(const Logger& log);
+
+    /// Whether finalize() expands this instance into meshes: its prototype,
+    /// or its material override, emits light.
+    bool expandsInstance(const Instance& in) const;
+    /// Adds the copies finalize() makes of the instances it expands.
+    void countExpansion(CopyCount& count) const;
 
     /// Whether anything lights the scene: geometry with an emissive material,
     /// a point or directional light, an environment, or a non-black ambient

@@ -257,4 +257,34 @@ TEST(InstanceApi, BadInstancesAreRefusedWithTheReason) {
     EXPECT_EQ(s.instanceCount(), 0u);
 }
 
+// Emissive instances are expanded into meshes when prepared: a scene built in
+// code that would copy more than the limit (10,001 copies of 10,000 emissive
+// triangles) is refused before a copy is made, not expanded into gigabytes.
+TEST(InstanceApi, EmissiveInstancesThatWouldCopyTooMuchAreRefused) {
+    pnb::Scene s;
+    pnb::Material lamp;
+    lamp.ke = pnb::gray(1.f);
+    const auto l = s.addMaterial(lamp);
+    std::vector<float> pos;
+    std::vector<uint32_t> idx;
+    for (uint32_t t = 0; t < 10000; ++t) {
+        const float x = float(t % 100), y = float(t / 100);
+        pos.insert(pos.end(), {x, y, 0, x + 1, y, 0, x, y + 1, 0});
+        idx.insert(idx.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    pnb::MeshDesc d;
+    d.positions = pos.data();
+    d.vertexCount = pos.size() / 3;
+    d.indices = idx.data();
+    d.triangleCount = idx.size() / 3;
+    d.material = l;
+    const pnb::PrototypeId glow = s.addPrototype("glow");
+    s.addPrototypeMesh(glow, d);
+    for (int i = 0; i < 10001; ++i) s.addInstance(glow, pnb::Matrix3x4::translate({0, 0, float(i)}));
+    pnb::Renderer renderer = quietRenderer();
+    const std::string msg = errorOf([&] { (void)renderer.prepare(s); }, pnb::ErrorCode::InvalidScene);
+    EXPECT_NE(msg.find("emissive instances"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("100010000 triangles"), std::string::npos) << msg;
+}
+
 }  // namespace

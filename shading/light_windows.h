@@ -28,7 +28,7 @@
 
 #include "core/math.h"
 #include "lights/light_set.h"
-#include "shading/phong_sampling.h"
+#include "shading/bsdf/phong_sampling.h"
 
 namespace penumbra {
 

@@ -5,10 +5,10 @@
 
 #include "core/scratch_array.h"
 #include "lights/environment_light.h"
-#include "shading/dielectric.h"
+#include "shading/bsdf/dielectric.h"
 #include "shading/mis.h"
-#include "shading/phong.h"
-#include "shading/phong_sampling.h"
+#include "shading/bsdf/phong.h"
+#include "shading/bsdf/phong_sampling.h"
 
 namespace penumbra {
 
@@ -86,10 +86,9 @@ private:
 
 }  // namespace
 
-PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, const LightSet& lights,
-                               const TextureCache* textures, const RenderSettings& settings)
-    : scene_(scene), accel_(accel), lights_(lights), settings_(settings),
-      surfaces_(scene, accel, lights, textures, settings) {}
+PathIntegrator::PathIntegrator(const IntegratorInputs& in)
+    : Integrator(in.accel), scene_(in.scene), lights_(in.lights), settings_(in.settings),
+      surfaces_(in.scene, in.textures, in.pixelSpread) {}
 
 Rgb PathIntegrator::escaped(const PathVertexLane& lane) const {
     const EnvironmentLight* env = lights_.environment();
@@ -334,14 +333,6 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
             radiance[i] = Rgb{};
         }
     }
-}
-
-Rgb PathIntegrator::Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts) const {
-    const std::optional<Hit> hit = accel_.intersect(cameraRay);
-    Rgb L;
-    radianceBatch(std::span<const Ray>(&cameraRay, 1), std::span<const std::optional<Hit>>(&hit, 1),
-                  std::span<const SampleKey>(&key, 1), std::span<Rgb>(&L, 1), std::span<FirstHit>(), counts);
-    return L;
 }
 
 }  // namespace penumbra

@@ -16,40 +16,24 @@
 #include <optional>
 #include <span>
 
-#include "accel/accelerator.h"
-#include "core/color.h"
-#include "core/render_settings.h"
-#include "core/scene.h"
-#include "lights/light_set.h"
 #include "shading/integrator.h"
+#include "shading/surface_shading.h"
 
 namespace penumbra {
-
-class TextureCache;
 
 /// Path state of one camera sample (path_integrator.cpp).
 struct PathVertexLane;
 
-class PathIntegrator {
+class PathIntegrator final : public Integrator {
 public:
-    static constexpr size_t kMaxBatch = Integrator::kMaxBatch;
     /// Bounces before Russian roulette may end a path.
     static constexpr int kRouletteDepth = 3;
 
-    PathIntegrator(const Scene& scene, const Accelerator& accel, const LightSet& lights, const TextureCache* textures,
-                   const RenderSettings& settings);
+    explicit PathIntegrator(const IntegratorInputs& in);
 
-    void setPixelSpread(float radians) { surfaces_.setPixelSpread(radians); }
-
-    /// As Integrator::radianceBatch: radiance along each camera ray of a batch
-    /// whose closest hits the caller found; each result depends only on its
-    /// own ray, hit and key.
     void radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
                        std::span<const SampleKey> keys, std::span<Rgb> radiance, std::span<FirstHit> firstHits,
-                       RayCounts& counts) const;
-
-    /// Radiance along one camera ray (a batch of one; for tests and tools).
-    Rgb Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts) const;
+                       RayCounts& counts) const override;
 
 private:
     /// What the lane's ray sees when it leaves the scene, times its MIS weight:
@@ -69,10 +53,9 @@ private:
     bool scatter(PathVertexLane& lane, int depth, RayCounts& counts) const;
 
     const Scene& scene_;
-    const Accelerator& accel_;
     const LightSet& lights_;
     RenderSettings settings_;
-    Integrator surfaces_;  // builds shading points the one way both integrators share
+    SurfaceShading surfaces_;
 };
 
 }  // namespace penumbra

@@ -16,7 +16,7 @@ struct ShadingPoint {
     Vec3f wo;   // unit direction back along the ray
     Rgb kd;     // diffuse albedo after texturing
     const Material* material = nullptr;
-    // material->isGlossy(); set by Integrator::shade, so that the per-lane
+    // material->isGlossy(); set by SurfaceShading::shade, so that the per-lane
     // decisions (which lanes take light samples, MIS, ShadowLanes' rule) need
     // not load through `material`.
     bool glossy = false;

@@ -16,8 +16,8 @@
 #include "core/ray_lanes.h"
 #include "lights/light_lanes.h"
 #include "shading/mis.h"
-#include "shading/phong.h"
-#include "shading/phong_sampling.h"
+#include "shading/bsdf/phong.h"
+#include "shading/bsdf/phong_sampling.h"
 #include "shading/shading_point.h"
 
 namespace penumbra {
@@ -71,7 +71,7 @@ public:
     /// the sample's pdf) of each unoccluded one, Rgb{} for the others.
     /// Returns how many shadow rays it answered. clear: the caller knows that
     /// nothing lies between the lanes' points and their samples
-    /// (Integrator::shadowsClear): the rays are neither made nor traced, and
+    /// (DirectLight::shadowsClear): the rays are neither made nor traced, and
     /// every one is unoccluded, as a query would have found.
     uint32_t trace(const LightLanes& samples, int n, float nLight, float nBrdf, const Accelerator& accel, Rgb* added,
                    bool clear = false) const;

@@ -8,8 +8,8 @@
 
 #include "core/log.h"
 #include "core/multi_jitter.h"
-#include "shading/integrator.h"
-#include "shading/phong.h"
+#include "shading/whitted_integrator.h"
+#include "shading/bsdf/phong.h"
 #include "shading/renderer.h"
 #include "support/both_accelerators.h"
 
@@ -38,7 +38,7 @@ Rgb radianceAlong(const PreparedScene& ps, const Ray& ray, int lightSamples, Dir
     st.lightSamples = lightSamples;
     st.directLight = mode;
     st.lightSelection = selection;
-    Integrator integ(ps.scene(), ps.accelerator(), ps.lights(), ps.textures(), st);
+    WhittedIntegrator integ({ps.scene(), ps.accelerator(), ps.lights(), ps.textures(), st});
     RayCounts counts;
     return integ.Li(ray, SampleKey{pixelSampleKey(7, 3), index}, counts, nullptr);
 }
@@ -95,7 +95,7 @@ Scene sharpGlossyFloorUnderALargeLight() {
     return s;
 }
 
-class DirectLight : public test::ForBothAccelerators {
+class DirectLightTest : public test::ForBothAccelerators {
 protected:
     PrepareOptions prep() const {
         PrepareOptions o;
@@ -106,7 +106,7 @@ protected:
 
 }  // namespace
 
-TEST_P(DirectLight, LambertianPointFacingASphereLightMatchesTheClosedForm) {
+TEST_P(DirectLightTest, LambertianPointFacingASphereLightMatchesTheClosedForm) {
     // E = pi L (r/d)^2 for a sphere wholly above the horizon; L_out = kd/pi E.
     Scene s;
     Material floor;
@@ -130,7 +130,7 @@ TEST_P(DirectLight, LambertianPointFacingASphereLightMatchesTheClosedForm) {
     EXPECT_LT(cone.sd, 0.25 * area.sd) << "cone sd " << cone.sd << ", area sd " << area.sd;
 }
 
-TEST_P(DirectLight, BallInsideAClosedEmissiveMeshReflectsKdTimesLe) {
+TEST_P(DirectLightTest, BallInsideAClosedEmissiveMeshReflectsKdTimesLe) {
     // Every direction above the ball's tangent plane reaches the emitting
     // cube, so L = kd Le exactly; area sampling was off by +-3% at 1024 samples.
     // 12 triangles: BRDF samples test the light's triangles first (at most
@@ -155,7 +155,7 @@ TEST_P(DirectLight, BallInsideAClosedEmissiveMeshReflectsKdTimesLe) {
     }
 }
 
-TEST_P(DirectLight, BrdfSamplesStopAtWhatLiesInFrontOfTheLight) {
+TEST_P(DirectLightTest, BrdfSamplesStopAtWhatLiesInFrontOfTheLight) {
     // A sharp glossy floor under a large light, seen near the mirror
     // direction (most of its light comes from BRDF samples). A box just under
     // the light that covers it as seen from the point leaves no light at all;
@@ -179,7 +179,7 @@ TEST_P(DirectLight, BrdfSamplesStopAtWhatLiesInFrontOfTheLight) {
     }
 }
 
-TEST_P(DirectLight, EstimatorsAgreeOnAGlossyPointInsideAUniformEmitter) {
+TEST_P(DirectLightTest, EstimatorsAgreeOnAGlossyPointInsideAUniformEmitter) {
     // A glossy, partly diffuse point inside a two-sided emissive sphere of
     // radiance Le reflects Le times its directional albedo, integrated here
     // on a fine grid; MIS must weigh light and BRDF samples to exactly that.
@@ -218,7 +218,7 @@ TEST_P(DirectLight, EstimatorsAgreeOnAGlossyPointInsideAUniformEmitter) {
     }
 }
 
-TEST_P(DirectLight, MisLowersTheNoiseOfASharpHighlightOfALargeLight) {
+TEST_P(DirectLightTest, MisLowersTheNoiseOfASharpHighlightOfALargeLight) {
     // A sharp glossy floor under a large rectangle light seen near the mirror
     // direction: light samples rarely land in the lobe, BRDF samples do.
     Scene s = sharpGlossyFloorUnderALargeLight();
@@ -232,7 +232,7 @@ TEST_P(DirectLight, MisLowersTheNoiseOfASharpHighlightOfALargeLight) {
     EXPECT_LT(mis.sd, 0.5 * light.sd) << "mis sd " << mis.sd << ", light-only sd " << light.sd;
 }
 
-TEST_P(DirectLight, GlossyPointsTakeBrdfSamplesOnlyUnderALightLargeForTheirLobe) {
+TEST_P(DirectLightTest, GlossyPointsTakeBrdfSamplesOnlyUnderALightLargeForTheirLobe) {
     // A glossy floor seen so that it mirrors a small lamp 4 above it (0.2 x 0.2:
     // about 0.002 sr). For a cos^40 lobe the lamp is small (the sampling pdf
     // peaks near 4 per sr: large lights subtend more than 0.08 sr): MIS takes
@@ -257,7 +257,7 @@ TEST_P(DirectLight, GlossyPointsTakeBrdfSamplesOnlyUnderALightLargeForTheirLobe)
             RenderSettings st;
             st.lightSamples = 4;
             st.directLight = DirectLightSampling::Mis;
-            Integrator mis(ps.scene(), ps.accelerator(), ps.lights(), ps.textures(), st);
+            WhittedIntegrator mis({ps.scene(), ps.accelerator(), ps.lights(), ps.textures(), st});
             RayCounts counts;
             const Rgb both = mis.Li(ray, SampleKey{pixelSampleKey(7, 3), i}, counts, nullptr);
             brdfRays += counts.brdf;
@@ -273,4 +273,4 @@ TEST_P(DirectLight, GlossyPointsTakeBrdfSamplesOnlyUnderALightLargeForTheirLobe)
     }
 }
 
-PENUMBRA_FOR_BOTH_ACCELERATORS(DirectLight);
+PENUMBRA_FOR_BOTH_ACCELERATORS(DirectLightTest);

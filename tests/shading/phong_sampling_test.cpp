@@ -2,14 +2,14 @@
 // phongPdf for both models, several exponents and lobe mixes; the returned
 // f cos matches phongResponse; the estimate f cos / pdf integrates the
 // BRDF's albedo.
-#include "shading/phong_sampling.h"
+#include "shading/bsdf/phong_sampling.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "core/multi_jitter.h"
-#include "shading/phong.h"
+#include "shading/bsdf/phong.h"
 #include "support/chi_square.h"
 
 using namespace penumbra;

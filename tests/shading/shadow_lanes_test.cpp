@@ -14,7 +14,7 @@
 #include "core/scene.h"
 #include "lights/area_light.h"
 #include "lights/light_lanes.h"
-#include "shading/phong.h"
+#include "shading/bsdf/phong.h"
 #include "shading/shadow_lanes.h"
 
 namespace penumbra {
@@ -75,7 +75,7 @@ TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
             ShadingPoint& sp = sps[i];
             sp.material = &ms[i % ms.size()];
             sp.kd = sp.material->kd;
-            sp.glossy = sp.material->isGlossy();  // as Integrator::shade sets it
+            sp.glossy = sp.material->isGlossy();  // as SurfaceShading::shade sets it
             sp.p = Vec3f{6.f * a.x - 3.f, 0.f, 6.f * a.y - 3.f};  // on the floor, some in the sphere's shadow
             sp.ng = Vec3f{0, 1, 0};
             sp.ns = normalize(Vec3f{0.3f * (u.y - 0.5f), 1.f, 0.2f});

@@ -1,11 +1,11 @@
-#include "shading/phong_sampling.h"
+#include "shading/bsdf/phong_sampling.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "core/sampling.h"
-#include "shading/phong.h"
+#include "shading/bsdf/phong.h"
 
 namespace penumbra {
 

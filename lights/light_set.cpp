@@ -116,28 +116,12 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
         lights_.push_back(std::move(env));
     }
 
-    double acc = 0.0;
-    for (const auto& l : lights_) {
-        acc += std::max(0.f, l->power().average());
-        powerCdf_.push_back(static_cast<float>(acc));
-    }
-    if (acc > 0.0) {
-        for (float& c : powerCdf_) c = static_cast<float>(c / acc);
-    } else {
-        // No power anywhere: fall back to uniform selection.
-        for (size_t i = 0; i < powerCdf_.size(); ++i) powerCdf_[i] = float(i + 1) / float(powerCdf_.size());
-    }
-    if (!powerCdf_.empty()) powerCdf_.back() = 1.f;
+    std::vector<double> powers;
+    for (const auto& l : lights_) powers.push_back(double(std::max(0.f, l->power().average())));
+    powerPicker_ = std::make_unique<PowerLightPicker>(powers);
 }
 
 LightSet::~LightSet() = default;
-
-LightSet::Pick LightSet::pickByPower(float u) const {
-    size_t i = std::upper_bound(powerCdf_.begin(), powerCdf_.end(), u) - powerCdf_.begin();
-    i = std::min(i, powerCdf_.size() - 1);
-    const float lo = i ? powerCdf_[i - 1] : 0.f;
-    return {i, powerCdf_[i] - lo};
-}
 
 std::optional<LightSet::EmitterHit> LightSet::firstEmitterHit(const Ray& ray) const {
     Ray r = ray;  // shrinks to the closest hit so far, as in the naive accelerator

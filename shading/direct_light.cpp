@@ -133,7 +133,8 @@ struct DirectLight::Call {
 DirectLight::DirectLight(const Scene& scene, const Accelerator& accel, const LightSet& lights,
                          const RenderSettings& settings)
     : scene_(scene), accel_(accel), lights_(lights), lightSamples_(static_cast<uint32_t>(settings.lightSamples)),
-      mode_(settings.directLight), power_(settings.lightSelection == LightSelection::Power) {
+      mode_(settings.directLight),
+      picker_(settings.lightSelection == LightSelection::Power ? &lights.powerPicker() : nullptr) {
     for (size_t j = 0; j < lights.size(); ++j) sampledLights_ |= !lights[j].isDelta();
     findClearTargets(scene);
 }
@@ -187,8 +188,9 @@ bool DirectLight::shadowsClear(size_t j, const Vec3f& p, const Vec3f& ng) const 
     return accel_.shapeBounds().segmentsClear(o, t.targets, t.self);
 }
 
-float DirectLight::bsdfSampleWeight(size_t j, float lightPdf, float nBsdf, float bsdfPdf) const {
-    if (power_) lightPdf *= lights_.powerProbability(j);
+float DirectLight::bsdfSampleWeight(size_t j, float lightPdf, float nBsdf, float bsdfPdf, const Vec3f& p,
+                                    const Vec3f& n) const {
+    if (picker_) lightPdf *= picker_->probability(j, p, n);
     return powerHeuristic(nBsdf, bsdfPdf, float(lightSamples_), lightPdf);
 }
 
@@ -205,7 +207,7 @@ PENUMBRA_LANE_CLONES void DirectLight::estimate(const Points& points, int depth,
         for (size_t q = 0; q < n; ++q) c.at.set(int(q), points.sp[q]->p, points.sp[q]->ng);
         decideBsdfSamples(c);
     }
-    if (power_) {
+    if (picker_) {
         samplePickedLights(c);
     } else {
         if (sampledLights_ && samples == 1 && mode_ != DirectLightSampling::Area) {
@@ -371,7 +373,7 @@ void DirectLight::sampleByArea(size_t j, Call& c) const {
     for (size_t q = 0; q < count; ++q) c.sum[q] += acc[q] * invN;
 }
 
-// Power-proportional selection: n samples per point in all, each picks one light.
+// Picked lights (LightPicker): n samples per point in all, each picks one light.
 void DirectLight::samplePickedLights(Call& c) const {
     const uint32_t dim = c.dimBase + uint32_t(lights_.size()), pickDim = dim + 0x9e37u, n = c.n;
     const size_t count = c.points.n;
@@ -386,7 +388,7 @@ void DirectLight::samplePickedLights(Call& c) const {
         const OwenSobol2D pickSeq = dimensionSequence(key, pickDim);
         for (uint32_t k = 0; k < n; ++k) {
             const uint32_t index = key.index * n + k;
-            const LightSet::Pick pick = lights_.pickByPower(pickSeq.point(index).x);
+            const LightPicker::Pick pick = picker_->pick(pickSeq.point(index).x, sp.p, sp.ng);
             const Light& light = lights_[pick.index];
             if (!(pick.probability > 0.f) || !light.mayReach(sp.p, sp.ng)) continue;
             const std::optional<LightSample> ls = area ? light.sampleArea(sp.p, seq.point(index))
@@ -436,13 +438,13 @@ public:
         const Rgb weight = s.fCos * (1.f / s.pdf);
         if (e) {
             const Hit hit = owner_.scene_.completeHit(ray, e->ref, e->hit.t, e->hit.u, e->hit.v);
-            const std::optional<Rgb> L = emitted(sp.p, ray.d, hit, e->light, weight, s.pdf);
+            const std::optional<Rgb> L = emitted(sp.p, sp.ng, ray.d, hit, e->light, weight, s.pdf);
             if (!L) return;
             added = *L;
             // Up to the light, stopping short of it as a shadow ray to a point on it does.
             shadow.tfar = std::max(0.f, e->hit.t - rayOffsetScale(hit.p));
         } else {
-            added = fromEnvironment(ray.d, weight, s.pdf);
+            added = fromEnvironment(sp.p, sp.ng, ray.d, weight, s.pdf);
         }
         occlusion_.add(lane, shadow, added);
     }
@@ -456,12 +458,13 @@ public:
         for (uint32_t i = 0; i < pending_; ++i) {
             if (!hits_[i]) {
                 // Escaped: it reaches the environment light (the set's last light), if any.
-                if (lights_.environment()) sums_[lanes_[i]] += fromEnvironment(rays_[i].d, weights_[i], pdfs_[i]);
+                if (lights_.environment())
+                    sums_[lanes_[i]] += fromEnvironment(origins_[i], normals_[i], rays_[i].d, weights_[i], pdfs_[i]);
                 continue;
             }
             const std::optional<size_t> light = lights_.lightOf(*hits_[i]);
             if (!light) continue;  // no light (emissive or not): light samples never see it either
-            if (auto L = emitted(origins_[i], rays_[i].d, *hits_[i], *light, weights_[i], pdfs_[i]))
+            if (auto L = emitted(origins_[i], normals_[i], rays_[i].d, *hits_[i], *light, weights_[i], pdfs_[i]))
                 sums_[lanes_[i]] += *L;
         }
         pending_ = 0;
@@ -473,26 +476,28 @@ private:
         if (!(s.pdf > 0.f)) return;
         rays_[pending_] = ray;
         origins_[pending_] = sp.p;
+        normals_[pending_] = sp.ng;
         weights_[pending_] = s.fCos * (1.f / s.pdf);
         pdfs_[pending_] = s.pdf;
         lanes_[pending_] = static_cast<uint8_t>(lane);
         if (++pending_ == kPacket) flush();
     }
 
-    // What a ray from p in direction d adds where it meets light `light` at
-    // hit (weight f cos / pdf, bsdfPdf its BSDF pdf); nullopt on the side
-    // that does not emit.
-    std::optional<Rgb> emitted(const Vec3f& p, const Vec3f& d, const Hit& hit, size_t light, const Rgb& weight,
-                               float bsdfPdf) const {
+    // What a ray from p (geometric normal n) in direction d adds where it
+    // meets light `light` at hit (weight f cos / pdf, bsdfPdf its BSDF pdf);
+    // nullopt on the side that does not emit.
+    std::optional<Rgb> emitted(const Vec3f& p, const Vec3f& n, const Vec3f& d, const Hit& hit, size_t light,
+                               const Rgb& weight, float bsdfPdf) const {
         const Material& m = owner_.scene_.material(hit.material);
         if (!m.isEmissive() || !(dot(d, hit.ng) < 0.f || m.twoSidedEmission)) return std::nullopt;
-        return weight * Rgb(m.ke) * owner_.bsdfSampleWeight(light, lights_[light].pdf(p, hit), nBsdf_, bsdfPdf);
+        return weight * Rgb(m.ke) * owner_.bsdfSampleWeight(light, lights_[light].pdf(p, hit), nBsdf_, bsdfPdf, p, n);
     }
 
     // What an escaped ray in direction d adds (the environment is the set's last light).
-    Rgb fromEnvironment(const Vec3f& d, const Rgb& weight, float bsdfPdf) const {
+    Rgb fromEnvironment(const Vec3f& p, const Vec3f& n, const Vec3f& d, const Rgb& weight, float bsdfPdf) const {
         const EnvironmentLight* env = lights_.environment();
-        return weight * env->radiance(d) * owner_.bsdfSampleWeight(lights_.size() - 1, env->pdf(d), nBsdf_, bsdfPdf);
+        return weight * env->radiance(d) *
+               owner_.bsdfSampleWeight(lights_.size() - 1, env->pdf(d), nBsdf_, bsdfPdf, p, n);
     }
 
     static constexpr uint32_t kPacket = 16;
@@ -503,10 +508,10 @@ private:
     float nBsdf_;
     bool emittersFirst_;
     ShadowQueue occlusion_;  // emitters first: the rays up to the light each meets
-    // Else the closest-hit queries: the rays, where they start, f cos / pdf and the pdf.
+    // Else the closest-hit queries: the rays, where they start (point and normal), f cos / pdf and the pdf.
     ScratchArray<Ray, kPacket> rays_;
     EmptyOptionals<Hit, kPacket> hits_;
-    ScratchArray<Vec3f, kPacket> origins_;
+    ScratchArray<Vec3f, kPacket> origins_, normals_;
     ScratchArray<Rgb, kPacket> weights_;
     float pdfs_[kPacket];
     uint8_t lanes_[kPacket];

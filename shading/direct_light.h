@@ -74,9 +74,10 @@ private:
     void sampleBsdf(Call& call) const;
 
     /// The MIS weight of emission that one of nBsdf BSDF samples of pdf
-    /// bsdfPdf finds on light j, whose own sampling pdf for that direction is
-    /// lightPdf (solid angle, before the light's selection probability).
-    float bsdfSampleWeight(size_t j, float lightPdf, float nBsdf, float bsdfPdf) const;
+    /// bsdfPdf, drawn at p (geometric normal n), finds on light j, whose own
+    /// sampling pdf for that direction is lightPdf (solid angle, before the
+    /// light's selection probability).
+    float bsdfSampleWeight(size_t j, float lightPdf, float nBsdf, float bsdfPdf, const Vec3f& p, const Vec3f& n) const;
 
     // Whether every shadow ray from the surface at p (geometric normal ng) to
     // area light j certainly meets nothing (ShapeBounds::segmentsClear):
@@ -89,7 +90,7 @@ private:
     const LightSet& lights_;
     uint32_t lightSamples_;
     DirectLightSampling mode_;
-    bool power_;
+    const LightPicker* picker_;  // null: every light takes every point's samples
     bool sampledLights_ = false;  // some light is no point or directional light
     // Per light, where it is one rectangle or disk: the box its samples lie
     // in (padded), the primitive and its plane.

@@ -99,7 +99,7 @@ Rgb PathIntegrator::escaped(const PathVertexLane& lane) const {
     // samples it too, so a BRDF-sampled ray that escapes is weighed against
     // the light strategy's density for the same direction.
     float lightPdf = env->pdf(lane.ray.d);
-    if (settings_.lightSelection == LightSelection::Power) lightPdf *= lights_.powerProbability(lights_.size() - 1);
+    if (settings_.lightSelection == LightSelection::Power) lightPdf *= lights_.powerPicker().probability(lights_.size() - 1, lane.prevP, Vec3f{});
     return L * powerHeuristic(1.f, lane.bsdfPdf, float(settings_.lightSamples), lightPdf);
 }
 
@@ -114,7 +114,7 @@ float PathIntegrator::emitterHitWeight(const Vec3f& prevP, float bsdfPdf, const 
     // The light strategy's density for this direction: n samples of this light
     // (all lights), or n samples in total that pick it by power.
     float lightPdf = lights_[*j].pdf(prevP, hit);
-    if (settings_.lightSelection == LightSelection::Power) lightPdf *= lights_.powerProbability(*j);
+    if (settings_.lightSelection == LightSelection::Power) lightPdf *= lights_.powerPicker().probability(*j, prevP, Vec3f{});
     return powerHeuristic(1.f, bsdfPdf, float(settings_.lightSamples), lightPdf);
 }
 
@@ -188,7 +188,7 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
             const OwenSobol2D pickSeq = dimensionSequence(v.key, dims.powerPick());
             for (uint32_t k = 0; k < n; ++k) {
                 const uint32_t index = v.key.index * n + k;
-                const LightSet::Pick pick = lights_.pickByPower(pickSeq.point(index).x);
+                const LightPicker::Pick pick = lights_.powerPicker().pick(pickSeq.point(index).x, v.sp.p, v.sp.ng);
                 if (!(pick.probability > 0.f) || !lights_[pick.index].mayReach(v.sp.p, v.sp.ng)) continue;
                 if (auto ls = lights_[pick.index].sample(v.sp.p, seq.point(index))) addSample(lit[q], *ls, pick.probability, invN);
             }

@@ -259,6 +259,6 @@ TEST(LightSet, PowerSelectionWeighsTheEnvironmentLikeADirectionalLight) {
     s.environment = env;
     LightSet lights(s);
     ASSERT_EQ(lights.size(), 2u);
-    EXPECT_NEAR(lights.pickByPower(0.25f).probability, 0.5f, 1e-5f);
-    EXPECT_EQ(lights.pickByPower(0.75f).index, 1u);
+    EXPECT_NEAR(lights.powerPicker().pick(0.25f, Vec3f{}, Vec3f{}).probability, 0.5f, 1e-5f);
+    EXPECT_EQ(lights.powerPicker().pick(0.75f, Vec3f{}, Vec3f{}).index, 1u);
 }

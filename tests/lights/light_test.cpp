@@ -131,7 +131,7 @@ TEST(LightSet, BuildsOneLightPerEmitterAndSelectsByPower) {
     EXPECT_EQ(lights.size(), 5u);
     EXPECT_NEAR(lights.totalEmitterArea(), 2.f + 0.5f + 0.5f, 1e-5f);
     // Power of rectangle 1 is 3x that of rectangle 0.
-    auto p0 = lights.pickByPower(0.0f);
+    auto p0 = lights.powerPicker().pick(0.0f, Vec3f{}, Vec3f{});
     EXPECT_EQ(p0.index, 0u);
     double total = 0;
     for (size_t i = 0; i < lights.size(); ++i) total += lights[i].power().average();

@@ -60,9 +60,4 @@ protected:
 /// The integrator settings.integrator names, built from `in`.
 std::unique_ptr<Integrator> makeIntegrator(const IntegratorInputs& in);
 
-/// Radiance a ray leaving the scene along `dir` sees: the environment light
-/// when the scene has one (lights.environment()), else Scene::background. The
-/// one rule for escaped rays, shared by every integrator.
-Rgb escapedRadiance(const Scene& scene, const LightSet& lights, const Vec3f& dir);
-
 }  // namespace penumbra

@@ -8,12 +8,18 @@
 #include "core/lane_clones.h"
 #include "core/scratch_array.h"
 #include "shading/bsdf/dielectric.h"
+#include "shading/bsdf/mirror.h"
 
 namespace penumbra {
 
 WhittedIntegrator::WhittedIntegrator(const IntegratorInputs& in)
-    : Integrator(in.accel), scene_(in.scene), lights_(in.lights), settings_(in.settings),
-      surfaces_(in.scene, in.textures, in.pixelSpread), direct_(in.scene, in.accel, in.lights, in.settings) {
+    : Integrator(in.accel), scene_(in.scene), settings_(in.settings),
+      surfaces_(in.scene, in.textures, in.pixelSpread),
+      direct_(in.scene, in.accel, in.lights,
+              DirectLight::Options{in.settings.lightSamples, in.settings.lightSelection,
+                                   in.settings.directLight == DirectLightSampling::Mis ? DirectLight::BsdfSamples::Own
+                                                                                       : DirectLight::BsdfSamples::None,
+                                   in.settings.directLight == DirectLightSampling::Area}) {
     for (const Material& m : in.scene.materials) continues_ |= m.isMirror() || m.isDielectric();
     continues_ &= settings_.maxDepth > 0;
 }
@@ -46,18 +52,12 @@ struct PathLane {
 PENUMBRA_LANE_CLONES void WhittedIntegrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active,
                                                             int depth,
                                        RayCounts& counts) const {
-    // The lanes that need light samples, in lane order.
-    DirectLight::Points points;
-    uint8_t lane[kMaxBatch];
-    for (size_t i = 0; i < lanes.size(); ++i) {
-        if (!active[i] || !lanes[i].sp.reflectsLight()) continue;
-        lane[points.n] = static_cast<uint8_t>(i);
-        points.add(lanes[i].sp, lanes[i].key);
-    }
-    if (points.n == 0) return;
-    ScratchArray<Rgb, kMaxBatch> direct;
-    direct_.estimate(points, depth, direct.data(), counts);
-    for (size_t q = 0; q < points.n; ++q) lanes[lane[q]].L += lanes[lane[q]].throughput * direct[q];
+    // Light samples where some light can reach the viewer (not at a black or pure mirror material).
+    const auto lit = [&](size_t i) -> std::optional<float> {
+        if (!active[i] || !lanes[i].sp.reflectsLight()) return std::nullopt;
+        return 0.f;
+    };
+    direct_.addTo(lanes, lit, depth, counts);
 }
 
 void WhittedIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
@@ -102,7 +102,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             PathLane& lane = lanes[i];
             lane.longest = std::max(lane.longest, lane.depth + 1);
             if (!lane.hit) {
-                lane.L += lane.throughput * escapedRadiance(scene_, lights_, lane.ray.d);
+                lane.L += lane.throughput * direct_.escapedRadiance(lane.ray.d);
                 active[i] = 0;
                 continue;
             }
@@ -200,8 +200,7 @@ bool WhittedIntegrator::continueLane(PathLane& lane, RayCounts& counts) const {
         // Whitted 1980: the mirror ray and the transmitted ray, weighted by Fresnel. The lane follows
         // the mirror ray and keeps the transmitted one pending (its own stack, depth first), so a
         // lane still traces one ray per step and the batch stays one packet.
-        const bool front = dot(lane.sp.wo, lane.hit->ng) > 0.f;
-        const float eta = front ? m.ior : 1.f / m.ior;
+        const float eta = lane.sp.front ? m.ior : 1.f / m.ior;
         const DielectricSplit split = splitDielectric(lane.sp.wo, lane.sp.ns, lane.sp.ng, eta, Rgb(m.kt));
         const Rgb tt = lane.throughput * split.transmittedWeight;
         if (split.transmitted && !tt.isBlack()) {
@@ -217,13 +216,9 @@ bool WhittedIntegrator::continueLane(PathLane& lane, RayCounts& counts) const {
         return true;
     }
     if (!m.isMirror()) return false;
-    // r = d - 2(d.n)n about the shading normal; fall back to the geometric
-    // normal when smooth normals would send the ray below the surface.
-    Vec3f r = reflect(lane.ray.d, lane.sp.ns);
-    if (dot(r, lane.sp.ng) <= 0.f) r = reflect(lane.ray.d, lane.sp.ng);
     lane.throughput *= m.kr;
     if (lane.throughput.isBlack()) return false;
-    lane.ray = spawnRay(lane.sp.p, lane.sp.ng, normalize(r));
+    lane.ray = spawnRay(lane.sp.p, lane.sp.ng, mirrorDirection(lane.sp.wo, lane.sp.ns, lane.sp.ng));
     ++lane.depth;
     ++counts.reflection;
     return true;

@@ -47,7 +47,6 @@ private:
     bool resumePending(PathLane& lane) const;
 
     const Scene& scene_;
-    const LightSet& lights_;
     RenderSettings settings_;
     SurfaceShading surfaces_;
     DirectLight direct_;

@@ -52,12 +52,10 @@ void PathIntegrator::shadeVertices(std::span<PathVertexLane> lanes, std::span<ui
         const Hit& hit = *lane.hit;
         lane.pathLength += hit.t;
         surfaces_.shade(hit, lane.ray, lane.pathLength, lane.sp);
-        const Material& m = *lane.sp.material;
-        // Emission is one-sided: only the side the geometric normal faces emits.
-        if (m.isEmissive() && (lane.sp.front || m.twoSidedEmission)) {
+        if (lane.sp.emits()) {
             const float w =
                 lane.specular ? 1.f : direct_.emitterHitWeight(hit, 1.f, lane.bsdfPdf, lane.prevP, lane.prevN);
-            lane.L += lane.throughput * m.ke * w;
+            lane.L += lane.throughput * lane.sp.material->ke * w;
         }
         if (depth == 0 && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};
         // The path's length limit: --max-depth scattering events (1 = direct light only).
@@ -82,7 +80,7 @@ bool PathIntegrator::scatter(PathVertexLane& lane, int depth, RayCounts& counts)
     // that follows its throughput, and carries the lost share when it does.
     if (depth + 1 >= kRouletteDepth) {
         const float survive = std::min(0.95f, lane.throughput.maxComponent());
-        if (!(rouletteNumber(lane.key, depth, 0) < survive)) return false;
+        if (!(branchNumbers(lane.key, depth, 0).survive < survive)) return false;
         lane.throughput *= 1.f / survive;
     }
     lane.prevP = sp.p;

@@ -57,13 +57,18 @@ struct VertexDimensions {
     uint32_t base, lights;
 };
 
-/// The number in [0, 1) that decides Russian roulette for one branch of
-/// camera sample `key` at bounce depth `depth`: a hash of (pixel key, sample
-/// index, depth, branch), not a point of a sequence, so that it needs no
-/// dimension of the layout and the branches a Whitted ray splits into (each
-/// its own `branch`) get numbers of their own.
-inline float rouletteNumber(const SampleKey& key, int depth, uint64_t branch) {
-    return toUnitFloat(hashValues({key.pixelKey, key.index, uint64_t(uint32_t(depth)), branch}));
+/// The numbers of the random decisions of one branch of camera sample `key`
+/// at bounce depth `depth`: `survive` decides Russian roulette, `pick` which
+/// continuation a surface that splits a ray follows. A hash of (pixel key,
+/// sample index, depth, branch), not points of a sequence: the decisions need
+/// no dimensions of the layout, and the branches a Whitted ray splits into
+/// (each numbered `branch`) get numbers of their own.
+struct BranchNumbers {
+    float survive, pick;
+};
+inline BranchNumbers branchNumbers(const SampleKey& key, int depth, uint32_t branch) {
+    const uint64_t h = hashValues({key.pixelKey, key.index, uint64_t(uint32_t(depth)), branch});
+    return {toUnitFloat(h), toUnitFloat(h << 24)};
 }
 
 }  // namespace penumbra

@@ -26,6 +26,10 @@ struct ShadingPoint {
     /// Whether any light can reach the viewer from here (a black or pure
     /// mirror material needs no light samples).
     bool reflectsLight() const { return glossy || !kd.isBlack(); }
+    /// Whether the material's emission ke leaves towards the viewer: emission
+    /// is one-sided, from the side the geometric normal faces, unless the
+    /// material emits on both sides.
+    bool emits() const { return material->isEmissive() && (front || material->twoSidedEmission); }
 };
 
 }  // namespace penumbra

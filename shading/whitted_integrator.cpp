@@ -30,6 +30,7 @@ struct PendingRay {
     Rgb throughput;
     float pathLength;
     int depth;
+    uint32_t branch;
 };
 
 // One camera sample's path through a batch. Plain values, so that a batch's
@@ -44,6 +45,7 @@ struct PathLane {
     float pathLength;
     SampleKey key;
     int depth;                          // bounces before the ray being traced
+    uint32_t branch;                    // which branch of the camera sample's tree of rays (branchNumbers)
     int longest;                        // rays along the deepest branch so far (path-length statistics)
     std::vector<PendingRay>* pending;   // transmitted rays still to trace (dielectrics), last first; null
                                         // where no lane can go on (WhittedIntegrator::continues_)
@@ -86,6 +88,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
         lane.pathLength = 0.f;
         lane.key = keys[i];
         lane.depth = 0;
+        lane.branch = 0;
         lane.longest = 0;
         lane.pending = continues_ ? &(*pending.get())[i] : nullptr;
         active[i] = 1;
@@ -110,8 +113,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             lane.pathLength += hit.t;
             surfaces_.shade(hit, lane.ray, lane.pathLength, lane.sp);
             const Material& m = *lane.sp.material;
-            // Emission is one-sided: only the side the geometric normal faces emits.
-            if (m.isEmissive() && (dot(lane.sp.wo, hit.ng) > 0.f || m.twoSidedEmission)) lane.L += lane.throughput * m.ke;
+            if (lane.sp.emits()) lane.L += lane.throughput * m.ke;
             if (first && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};
             lane.L += lane.throughput * (m.ka * scene_.ambient);
         }
@@ -196,22 +198,25 @@ void WhittedIntegrator::addDirectLightByDepth(std::span<PathLane> lanes, std::sp
 bool WhittedIntegrator::continueLane(PathLane& lane, RayCounts& counts) const {
     const Material& m = *lane.sp.material;
     if (lane.depth >= settings_.maxDepth) return false;
+    if (lane.depth >= kExactDepth) return continueSampled(lane, counts);
     if (m.isDielectric()) {
         // Whitted 1980: the mirror ray and the transmitted ray, weighted by Fresnel. The lane follows
         // the mirror ray and keeps the transmitted one pending (its own stack, depth first), so a
-        // lane still traces one ray per step and the batch stays one packet.
+        // lane still traces one ray per step and the batch stays one packet. The branches are
+        // numbered as the nodes of a binary tree (children 2b + 1 and 2b + 2).
         const float eta = lane.sp.front ? m.ior : 1.f / m.ior;
         const DielectricSplit split = splitDielectric(lane.sp.wo, lane.sp.ns, lane.sp.ng, eta, Rgb(m.kt));
         const Rgb tt = lane.throughput * split.transmittedWeight;
         if (split.transmitted && !tt.isBlack()) {
-            lane.pending->push_back(
-                PendingRay{spawnRay(lane.sp.p, lane.sp.ng, *split.transmitted), tt, lane.pathLength, lane.depth + 1});
+            lane.pending->push_back(PendingRay{spawnRay(lane.sp.p, lane.sp.ng, *split.transmitted), tt,
+                                               lane.pathLength, lane.depth + 1, 2 * lane.branch + 2});
             ++counts.transmission;
         }
         lane.throughput *= split.reflectedWeight;
         if (lane.throughput.isBlack()) return false;
         lane.ray = spawnRay(lane.sp.p, lane.sp.ng, split.reflected);
         ++lane.depth;
+        lane.branch = 2 * lane.branch + 1;
         ++counts.reflection;
         return true;
     }
@@ -224,6 +229,39 @@ bool WhittedIntegrator::continueLane(PathLane& lane, RayCounts& counts) const {
     return true;
 }
 
+bool WhittedIntegrator::continueSampled(PathLane& lane, RayCounts& counts) const {
+    const Material& m = *lane.sp.material;
+    const BranchNumbers u = branchNumbers(lane.key, lane.depth + 1, lane.branch);
+    Vec3f wi;
+    bool transmitted = false;
+    if (m.isDielectric()) {
+        // One of the two rays, picked in proportion to its Fresnel weight (its weight over that probability).
+        const float eta = lane.sp.front ? m.ior : 1.f / m.ior;
+        const DielectricSample s = sampleDielectric(lane.sp.wo, lane.sp.ns, lane.sp.ng, eta, Rgb(m.kt), u.pick);
+        lane.throughput *= s.weight;
+        wi = s.wi;
+        transmitted = s.transmitted;
+    } else if (m.isMirror()) {
+        lane.throughput *= m.kr;
+        wi = mirrorDirection(lane.sp.wo, lane.sp.ns, lane.sp.ng);
+    } else {
+        return false;
+    }
+    if (lane.throughput.isBlack()) return false;
+    // Russian roulette: a branch of low throughput survives with a probability
+    // in proportion to it, and then carries the threshold.
+    const float most = lane.throughput.maxComponent();
+    if (most < kRouletteThroughput) {
+        const float survive = most / kRouletteThroughput;
+        if (!(u.survive < survive)) return false;
+        lane.throughput *= 1.f / survive;
+    }
+    lane.ray = spawnRay(lane.sp.p, lane.sp.ng, wi);
+    ++lane.depth;
+    ++(transmitted ? counts.transmission : counts.reflection);
+    return true;
+}
+
 bool WhittedIntegrator::resumePending(PathLane& lane) const {
     if (lane.pending->empty()) return false;
     const PendingRay& p = lane.pending->back();
@@ -231,6 +269,7 @@ bool WhittedIntegrator::resumePending(PathLane& lane) const {
     lane.throughput = p.throughput;
     lane.pathLength = p.pathLength;
     lane.depth = p.depth;
+    lane.branch = p.branch;
     lane.pending->pop_back();
     return true;
 }

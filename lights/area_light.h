@@ -55,7 +55,7 @@ public:
     float pdf(const Vec3f& p, const Hit& onLight) const override;
     std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
     bool mayReach(const Vec3f& p, const Vec3f& n) const override;
-    Rgb power() const override;
+    double power() const override;
     float area() const { return area_; }
 
 private:
@@ -109,7 +109,7 @@ public:
     void mayReachLanes(const LanePoints& at, int n, int32_t* reach) const override;
     void sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                      LightLanes& out) const override;
-    Rgb power() const override;
+    double power() const override;
     float area() const { return totalArea_; }
     size_t triangleCount() const { return triangles_.size(); }
 

@@ -117,7 +117,7 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
     }
 
     std::vector<double> powers;
-    for (const auto& l : lights_) powers.push_back(double(std::max(0.f, l->power().average())));
+    for (const auto& l : lights_) powers.push_back(l->power());
     powerPicker_ = std::make_unique<PowerLightPicker>(powers);
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/log.h"
 #include "core/multi_jitter.h"
+#include "shading/path_integrator.h"
 #include "shading/whitted_integrator.h"
 #include "shading/bsdf/phong.h"
 #include "shading/renderer.h"
@@ -216,6 +217,42 @@ TEST_P(DirectLightTest, EstimatorsAgreeOnAGlossyPointInsideAUniformEmitter) {
         const Stats power = estimate(ps, ray, 256, DirectLightSampling::Mis, 16, LightSelection::Power);
         EXPECT_NEAR(power.mean, expected, 0.003 * expected) << "power selection";
     }
+}
+
+// Issue 43: two sphere lights of radiance 3e38 emit more than the largest
+// float; their float powers summed to infinity, every selection probability
+// was inf / inf, and with power selection nothing was ever picked (a black
+// image). A Lambertian point below both: L = 2 kd Le (r/d)^2 cos(theta) per the
+// sphere's closed form, with both integrators.
+TEST_P(DirectLightTest, PowerSelectionPicksLightsBrighterThanTheFloatRange) {
+    Scene s;
+    Material floor;
+    floor.kd = Rgb(0.5f);
+    const uint32_t fm = addMaterial(s, floor);
+    const uint32_t lm = addMaterial(s, emitter(3e38f));
+    s.planes.push_back(Plane{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, true, fm});
+    const float r = 0.5f;  // each emits 3e38 * 4 pi r^2 * pi = 3e39
+    s.spheres.push_back(Sphere{Vec3f{-1, 2, 0}, r, lm});
+    s.spheres.push_back(Sphere{Vec3f{1, 2, 0}, r, lm});
+    PreparedScene ps(std::move(s), prep(), quietLogger());
+    const Ray ray{Vec3f{0.f, 1.f, 1.f}, normalize(Vec3f{0.f, -1.f, -1.f}), 0.f, kInfinity};
+    const double d2 = 5.0, cosTheta = 2.0 / std::sqrt(5.0);
+    const double expected = 2.0 * 0.5 * 3e38 * (double(r) * r / d2) * cosTheta;
+    // 4 light samples per point (the default): their sum, before it is divided by 4, stays a float.
+    const Stats whitted = estimate(ps, ray, 4, DirectLightSampling::Mis, 64, LightSelection::Power);
+    EXPECT_NEAR(whitted.mean, expected, 0.01 * expected);
+    RenderSettings st;
+    st.lightSamples = 4;
+    st.lightSelection = LightSelection::Power;
+    st.integrator = IntegratorKind::Path;
+    st.maxDepth = 1;  // direct light only
+    const PathIntegrator path({ps.scene(), ps.accelerator(), ps.lights(), ps.textures(), st});
+    double sum = 0;
+    for (uint32_t i = 0; i < 64; ++i) {
+        RayCounts counts;
+        sum += path.Li(ray, SampleKey{pixelSampleKey(7, 3), i}, counts).g;
+    }
+    EXPECT_NEAR(sum / 64, expected, 0.01 * expected);
 }
 
 TEST_P(DirectLightTest, MisLowersTheNoiseOfASharpHighlightOfALargeLight) {

@@ -22,7 +22,7 @@ static_assert(DirectLight::kMaxPoints <= size_t(kLaneWidth), "a call's points fi
 
 // The fewest BSDF samples per shading point for which LightWindows drops the
 // samples that can meet no light: building the windows costs about as much
-// as making and testing five samples (docs/benchmarks.md, "Direct light").
+// as making and testing five samples (docs/rendering.md, "MIS").
 constexpr uint32_t kMinWindowedBsdfSamples = 6;
 
 // Solid angle (sr) from which a light counts as large for a Lambertian point.
@@ -257,19 +257,28 @@ void DirectLight::sampleLight(size_t j, Call& c) const {
     sampleManyPerPoint(j, c);
 }
 
-// A point or directional light: one exact sample per point.
-PENUMBRA_LANE_CLONES void DirectLight::sampleDeltaLight(const Light& light, Call& c) const {
+// The strategies that queue one sample at a time: each point's samples
+// (sampleAt(q, sp, key, queue)) go through one shadow queue, and their sum
+// times `scale` is added to the point's estimate.
+template <class SampleAt>
+void DirectLight::queueSamples(Call& c, float scale, SampleAt sampleAt) const {
     const size_t count = c.points.n;
-    const float n = float(c.n);
     ScratchArray<Rgb, kMaxPoints> acc;
     ShadowQueue queue(accel_, c.counts.shadow, acc.data());
     for (size_t q = 0; q < count; ++q) {
         acc[q] = Rgb{};
-        const ShadingPoint& sp = *c.points.sp[q];
-        if (auto ls = light.sample(sp.p, Vec2f{0.5f, 0.5f})) queueLightSample(queue, q, sp, *ls, 1.f, 1.f, 0.f, n);
+        sampleAt(q, *c.points.sp[q], c.points.key[q], queue);
     }
     queue.flush();
-    for (size_t q = 0; q < count; ++q) c.sum[q] += acc[q];
+    for (size_t q = 0; q < count; ++q) c.sum[q] += acc[q] * scale;
+}
+
+// A point or directional light: one exact sample per point.
+PENUMBRA_LANE_CLONES void DirectLight::sampleDeltaLight(const Light& light, Call& c) const {
+    const float n = float(c.n);
+    queueSamples(c, 1.f, [&](size_t q, const ShadingPoint& sp, const SampleKey&, ShadowQueue& queue) {
+        if (auto ls = light.sample(sp.p, Vec2f{0.5f, 0.5f})) queueLightSample(queue, q, sp, *ls, 1.f, 1.f, 0.f, n);
+    });
 }
 
 // One sample per point: every step over the points as the lanes of a packet.
@@ -376,35 +385,20 @@ PENUMBRA_LANE_CLONES void DirectLight::sampleManyPerPoint(size_t j, Call& c) con
 void DirectLight::sampleByArea(size_t j, Call& c) const {
     const Light& light = lights_[j];
     const uint32_t dim = c.dims.light(j), n = c.n;
-    const size_t count = c.points.n;
-    ScratchArray<Rgb, kMaxPoints> acc;
-    ShadowQueue queue(accel_, c.counts.shadow, acc.data());
-    for (size_t q = 0; q < count; ++q) {
-        acc[q] = Rgb{};
-        const ShadingPoint& sp = *c.points.sp[q];
-        if (!light.mayReach(sp.p, sp.ng)) continue;  // every sample would be discarded
-        const OwenSobol2D seq = dimensionSequence(c.points.key[q], dim);
-        const uint32_t index = c.points.key[q].index;
+    queueSamples(c, c.invN, [&](size_t q, const ShadingPoint& sp, const SampleKey& key, ShadowQueue& queue) {
+        if (!light.mayReach(sp.p, sp.ng)) return;  // every sample would be discarded
+        const OwenSobol2D seq = dimensionSequence(key, dim);
         for (uint32_t k = 0; k < n; ++k)
-            if (auto ls = light.sampleArea(sp.p, seq.point(index * n + k)))
+            if (auto ls = light.sampleArea(sp.p, seq.point(key.index * n + k)))
                 queueLightSample(queue, q, sp, *ls, 1.f, ls->pdf, 0.f, float(n));
-    }
-    queue.flush();
-    const float invN = c.invN;
-    for (size_t q = 0; q < count; ++q) c.sum[q] += acc[q] * invN;
+    });
 }
 
 // Picked lights (LightPicker): n samples per point in all, each picks one
 // light with its point's x and samples it with the rest of the point.
 void DirectLight::samplePickedLights(Call& c) const {
     const uint32_t dim = c.dims.pickedLights(), n = c.n;
-    const size_t count = c.points.n;
-    ScratchArray<Rgb, kMaxPoints> acc;
-    ShadowQueue queue(accel_, c.counts.shadow, acc.data());
-    for (size_t q = 0; q < count; ++q) {
-        acc[q] = Rgb{};
-        const ShadingPoint& sp = *c.points.sp[q];
-        const SampleKey& key = c.points.key[q];
+    queueSamples(c, c.invN, [&](size_t q, const ShadingPoint& sp, const SampleKey& key, ShadowQueue& queue) {
         const OwenSobol2D seq = dimensionSequence(key, dim);
         for (uint32_t k = 0; k < n; ++k) {
             const Vec2f u = seq.point(key.index * n + k);
@@ -417,10 +411,7 @@ void DirectLight::samplePickedLights(Call& c) const {
                 queueLightSample(queue, q, sp, *ls, 1.f / pick.probability, ls->pdf * pick.probability,
                                  c.misCount[q], float(n));
         }
-    }
-    queue.flush();
-    const float invN = c.invN;
-    for (size_t q = 0; q < count; ++q) c.sum[q] = acc[q] * invN;
+    });
 }
 
 // BSDF-sampled rays of a batch's shading points, traced 16 at a time as

@@ -107,6 +107,8 @@ private:
     void sampleByArea(size_t j, Call& call) const;
     void samplePickedLights(Call& call) const;
     void sampleBsdf(Call& call) const;
+    template <class SampleAt>
+    void queueSamples(Call& call, float scale, SampleAt sampleAt) const;
 
     /// The MIS weight of emission that one of nBsdf BSDF samples of pdf
     /// bsdfPdf, drawn at p (geometric normal n), finds on light j, whose own

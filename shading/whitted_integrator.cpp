@@ -19,7 +19,7 @@ WhittedIntegrator::WhittedIntegrator(const IntegratorInputs& in)
               DirectLight::Options{in.settings.lightSamples, in.settings.lightSelection,
                                    in.settings.directLight == DirectLightSampling::Mis ? DirectLight::BsdfSamples::Own
                                                                                        : DirectLight::BsdfSamples::None,
-                                   in.settings.directLight == DirectLightSampling::Area}) {
+                                   in.internal.areaLightSamples}) {
     for (const Material& m : in.scene.materials) continues_ |= m.isMirror() || m.isDielectric();
     continues_ &= settings_.maxDepth > 0;
 }
@@ -35,7 +35,7 @@ struct PendingRay {
 
 // One camera sample's path through a batch. Plain values, so that a batch's
 // lanes are scratch storage: radianceBatch writes every field before reading
-// it, where zeroing 16 lanes for every batch showed in the profiles.
+// it, and 16 lanes are not zeroed for every batch.
 struct PathLane {
     Ray ray;
     const Hit* hit;                     // the ray's closest hit (in the batch's hit arrays); null: it escaped
@@ -74,8 +74,8 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
                                                         std::span<FirstHit> firstHits, RayCounts& counts) const {
     const size_t n = std::min(cameraRays.size(), kMaxBatch);
     ScratchArray<PathLane, kMaxBatch> lanes;
-    // The lanes' stacks of pending rays, only where a lane can go on (16 vectors
-    // made and destroyed for every batch showed in the textbook scene's profile).
+    // The lanes' stacks of pending rays, only where a lane can go on: 16 vectors
+    // made and destroyed for every batch would cost more than most batches' shading.
     Deferred<std::array<std::vector<PendingRay>, kMaxBatch>> pending;
     if (continues_) pending.emplace();
     uint8_t active[kMaxBatch];

@@ -18,8 +18,9 @@ namespace penumbra {
 
 /// What multiplies the radiance L of a light sample in direction wi: f cos
 /// for area lights and the environment; for point and directional lights
-/// (deltaLight) the same in the normalised model and the lecture's formula
-/// in the classic one (shading/bsdf/phong.h). Zero below the shading surface.
+/// (deltaLight) the same in the normalised model and the classic Phong
+/// formula in the classic one (shading/bsdf/phong.h). Zero below the shading
+/// surface.
 inline Rgb bsdfResponse(const ShadingPoint& sp, const Vec3f& wi, bool deltaLight) {
     return phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, wi, deltaLight);
 }

@@ -62,7 +62,7 @@ public:
     /// default calls sampleMany). Not for delta lights.
     virtual void sampleManyLanes(const Vec3f& p, const float* ux, const float* uy, int n, LightLanes& out) const;
     /// The estimator before solid-angle sampling: points uniform in area
-    /// (--direct-light area, for comparisons). Same as sample() unless overridden.
+    /// (InternalSettings::areaLightSamples, for comparisons). Same as sample() unless overridden.
     virtual std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const { return sample(p, u); }
     /// False only where no sample from p can count: where every point of the
     /// light lies on or below the plane through p with normal n (the

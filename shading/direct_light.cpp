@@ -211,6 +211,29 @@ Rgb DirectLight::escapedRadiance(const Vec3f& dir) const {
     return env ? env->radiance(dir) : scene_.background;
 }
 
+// (Inline, as is sampleLight: both run in estimate's lane clones, once per call and light.)
+[[gnu::always_inline]] inline void DirectLight::decideBsdfSamples(Call& c) const {
+    const size_t n = c.points.n;
+    if (bsdf_ == BsdfSamples::Caller) {
+        std::copy_n(c.points.bsdfCount, n, c.misCount);
+        return;
+    }
+    std::fill_n(c.misCount, n, 0.f);
+    if (bsdf_ != BsdfSamples::Own || !sampledLights_) return;
+    alignas(64) int32_t take[kLaneWidth];
+    c.ownBsdfSamples = takesBsdfSamples(c.points.sp, c.at, int(n), lights_, take);
+    for (size_t q = 0; q < n; ++q) c.misCount[q] = take[q] ? float(c.nBsdf) : 0.f;
+}
+
+[[gnu::always_inline]] inline void DirectLight::sampleLight(size_t j, Call& c) const {
+    const Light& light = lights_[j];
+    if (light.isDelta()) return sampleDeltaLight(light, c);
+    if (areaSamples_) return sampleByArea(j, c);
+    if (c.n == 1) return sampleOnePerPoint(j, c);
+    if (c.n < uint32_t(kLaneWidth)) return samplePairs(j, c);
+    sampleManyPerPoint(j, c);
+}
+
 PENUMBRA_LANE_CLONES void DirectLight::estimate(const Points& points, int depth, Rgb* direct,
                                                 RayCounts& counts) const {
     const size_t nLights = lights_.size();
@@ -233,28 +256,6 @@ PENUMBRA_LANE_CLONES void DirectLight::estimate(const Points& points, int depth,
         for (size_t j = 0; j < nLights; ++j) sampleLight(j, c);
     }
     if (c.ownBsdfSamples) sampleBsdf(c);
-}
-
-PENUMBRA_LANE_CLONES void DirectLight::decideBsdfSamples(Call& c) const {
-    const size_t n = c.points.n;
-    if (bsdf_ == BsdfSamples::Caller) {
-        std::copy_n(c.points.bsdfCount, n, c.misCount);
-        return;
-    }
-    std::fill_n(c.misCount, n, 0.f);
-    if (bsdf_ != BsdfSamples::Own || !sampledLights_) return;
-    alignas(64) int32_t take[kLaneWidth];
-    c.ownBsdfSamples = takesBsdfSamples(c.points.sp, c.at, int(n), lights_, take);
-    for (size_t q = 0; q < n; ++q) c.misCount[q] = take[q] ? float(c.nBsdf) : 0.f;
-}
-
-void DirectLight::sampleLight(size_t j, Call& c) const {
-    const Light& light = lights_[j];
-    if (light.isDelta()) return sampleDeltaLight(light, c);
-    if (areaSamples_) return sampleByArea(j, c);
-    if (c.n == 1) return sampleOnePerPoint(j, c);
-    if (c.n < uint32_t(kLaneWidth)) return samplePairs(j, c);
-    sampleManyPerPoint(j, c);
 }
 
 // The strategies that queue one sample at a time: each point's samples

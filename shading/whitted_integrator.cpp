@@ -34,12 +34,12 @@ struct PendingRay {
 };
 
 // One camera sample's path through a batch. Plain values, so that a batch's
-// lanes are scratch storage: radianceBatch writes every field before reading
-// it, and 16 lanes are not zeroed for every batch.
+// lanes are scratch storage: shadeBatch writes every field before reading it,
+// and 16 lanes are not zeroed for every batch.
 struct PathLane {
     Ray ray;
     const Hit* hit;                     // the ray's closest hit (in the batch's hit arrays); null: it escaped
-    ShadingPoint sp;                    // written by shade() where the ray hit
+    ShadingPoint sp;                    // written by SurfaceShading::shade where the ray hit
     Rgb L;
     Rgb throughput;
     float pathLength;
@@ -52,8 +52,7 @@ struct PathLane {
 };
 
 PENUMBRA_LANE_CLONES void WhittedIntegrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active,
-                                                            int depth,
-                                       RayCounts& counts) const {
+                                                            int depth, RayCounts& counts) const {
     // Light samples where some light can reach the viewer (not at a black or pure mirror material).
     const auto lit = [&](size_t i) -> std::optional<float> {
         if (!active[i] || !lanes[i].sp.reflectsLight()) return std::nullopt;

@@ -17,7 +17,7 @@
 #include "core/parallel.h"
 #include "core/rgb_image.h"
 #include "core/texture_cache.h"
-#include "shading/path_integrator.h"
+#include "shading/integrator.h"
 
 namespace penumbra {
 namespace {
@@ -86,7 +86,6 @@ struct PassContext {
     uint32_t firstSample, sampleCount;
     bool useLens;
     const std::atomic<bool>* cancel;
-    const PathIntegrator* path;  // set with --integrator path; else `integrator` (Whitted) shades
 
     bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
 };
@@ -187,15 +186,10 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
         c.camera.generateRayLanes(filmX, filmY, c.useLens ? lens : nullptr, int(count), rayLanes);
         c.prepared.accelerator().intersectLanes(rayLanes, std::span<std::optional<Hit>>(hits.data(), count), rays);
         const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();
-        if (c.path)
-            c.path->radianceBatch(std::span<const Ray>(rays, count), std::span<const std::optional<Hit>>(hits.data(), count),
-                                  std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count), firstHits,
-                                  counts);
-        else
-            c.integrator.radianceBatch(std::span<const Ray>(rays, count),
-                                       std::span<const std::optional<Hit>>(hits.data(), count),
-                                       std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count),
-                                       firstHits, counts);
+        c.integrator.radianceBatch(std::span<const Ray>(rays, count),
+                                   std::span<const std::optional<Hit>>(hits.data(), count),
+                                   std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count), firstHits,
+                                   counts);
         for (size_t i = 0; i < count; ++i) {
             c.film.addRadiance(filmIndex[i], radiance[i]);
             if (aovs) c.film.addAov(filmIndex[i], first[i].albedo, first[i].normal, first[i].depth);
@@ -230,21 +224,17 @@ bool renderTile(const PassContext& c, const PixelRect& tile, RayCounts& counts) 
 }  // namespace
 
 PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDesc, const RenderSettings& settings,
-                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control) {
+                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control,
+                       const InternalSettings& internal) {
     // The API checked the arguments (api/render.cpp, checkRender and checkPass).
     assert(film.window() == pnb::renderWindow(settings) && film.sampleCount() == firstSample &&
            uint64_t(firstSample) + sampleCount <= uint64_t(settings.spp));
     const Camera camera(cameraDesc, settings.width, settings.height);
-    Integrator integrator(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings);
     const float pixelSpread = 2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height);
-    integrator.setPixelSpread(pixelSpread);
-    std::optional<PathIntegrator> path;
-    if (settings.integrator == IntegratorKind::Path) {
-        path.emplace(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings);
-        path->setPixelSpread(pixelSpread);
-    }
-    const PassContext context{prepared,    camera,      integrator, settings, film, film.window(), firstSample,
-                              sampleCount, cameraDesc.aperture > 0.f, control.cancel, path ? &*path : nullptr};
+    const std::unique_ptr<Integrator> integrator = makeIntegrator(
+        {prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings, pixelSpread, internal});
+    const PassContext context{prepared, camera,      *integrator, settings, film, film.window(), firstSample,
+                              sampleCount, cameraDesc.aperture > 0.f, control.cancel};
 
     const CropWindow& window = context.window;
     const int tile = settings.tileSize;
@@ -297,9 +287,9 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
 }
 
 PassResult render(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings, Film& film,
-                   const RenderControl& control) {
+                   const RenderControl& control, const InternalSettings& internal) {
     return renderPass(prepared, camera, settings, film, film.sampleCount(), uint32_t(settings.spp) - film.sampleCount(),
-                      control);
+                      control, internal);
 }
 
 }  // namespace penumbra

@@ -106,12 +106,9 @@ void addSamplingOptions(CLI::App& app, Options& o) {
         ->transform(oneOf<IntegratorKind>({{"whitted", IntegratorKind::Whitted}, {"path", IntegratorKind::Path}},
                                           expected("whitted or path")));
     app.add_option("--direct-light", o.directLight,
-                   "Area-light estimator: mis (light + BRDF samples, default), light (solid-angle light samples) "
-                   "or area (uniform-area light samples, the old estimator)")
-        ->transform(oneOf<DirectLightSampling>({{"mis", DirectLightSampling::Mis},
-                                                {"light", DirectLightSampling::Light},
-                                                {"area", DirectLightSampling::Area}},
-                                               expected("mis, light or area")));
+                   "Area-light estimator: mis (light + BRDF samples, default) or light (solid-angle light samples)")
+        ->transform(oneOf<DirectLightSampling>({{"mis", DirectLightSampling::Mis}, {"light", DirectLightSampling::Light}},
+                                               expected("mis or light")));
     app.add_option("--accel", o.accel, "Accelerator: embree or naive")
         ->transform(oneOf<pnb::AcceleratorKind>(
             {{"embree", pnb::AcceleratorKind::Embree}, {"naive", pnb::AcceleratorKind::Naive}},

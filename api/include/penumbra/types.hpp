@@ -137,12 +137,11 @@ enum class LightSelection {
     Power,  ///< lightSamples samples in total, lights picked in proportion to power
 };
 
-/// How the integrator estimates the direct light of area lights
-/// (docs/rendering.md). Point and directional lights are exact in all three.
+/// How the Whitted integrator estimates the direct light of area lights
+/// (docs/rendering.md). Point and directional lights are exact in both.
 enum class DirectLightSampling {
     Mis,    ///< solid-angle light samples + Phong BRDF samples, power heuristic (default)
     Light,  ///< solid-angle light samples only
-    Area,   ///< light samples uniform in area only: the estimator before issue 15, for comparisons
 };
 
 /// What to render. The same scene, camera and settings give a bit-identical

@@ -1,4 +1,4 @@
-// Phong material, as in the lecture notes (see docs/ and shading/phong.h for the BRDF).
+// A surface material: Phong (docs/rendering.md; the BRDF is shading/bsdf/phong.h), mirror and glass.
 #pragma once
 
 #include <penumbra/types.hpp>
@@ -21,7 +21,7 @@ struct Material : pnb::Material {
     bool isMirror() const { return Rgb(kr).maxComponent() > 0.f; }
     /// Has a Phong lobe (ks > 0): its response needs more than the diffuse term.
     bool isGlossy() const { return Rgb(ks).maxComponent() > 0.f; }
-    /// Smooth glass: Fresnel reflection and refraction (shading/dielectric.h); kr is not used then.
+    /// Smooth glass: Fresnel reflection and refraction (shading/bsdf/dielectric.h); kr is not used then.
     bool isDielectric() const { return Rgb(kt).maxComponent() > 0.f; }
 };
 

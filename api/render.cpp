@@ -76,6 +76,22 @@ RenderStats renderRest(const PreparedImpl& p, const Camera& camera, const Render
 
 // ---------------------------------------------------------------- RenderJob
 
+namespace {
+
+// The job whose callback this thread is running, if any: waiting for that
+// job from inside its own callback would never return, so wait() throws.
+thread_local const JobState* callbackJob = nullptr;
+
+struct InCallback {
+    const JobState* saved;
+    explicit InCallback(const JobState* job) : saved(callbackJob) { callbackJob = job; }
+    ~InCallback() { callbackJob = saved; }
+    InCallback(const InCallback&) = delete;
+    InCallback& operator=(const InCallback&) = delete;
+};
+
+}  // namespace
+
 RenderJob::RenderJob() = default;
 RenderJob::~RenderJob() = default;
 RenderJob::RenderJob(RenderJob&&) noexcept = default;
@@ -90,6 +106,9 @@ bool RenderJob::done() const noexcept { return !impl_ || impl_->state->done.load
 void RenderJob::wait() const {
     if (!impl_) return;
     JobState& s = *impl_->state;
+    if (callbackJob == &s && !s.done.load())
+        throw Error(ErrorCode::InvalidArgument,
+                    "a render job cannot be waited for inside its own callback (it would never return)");
     std::unique_lock<std::mutex> lock(s.mutex);
     s.finished.wait(lock, [&] { return s.done.load(); });
 }
@@ -199,10 +218,16 @@ RenderJob Renderer::renderAsync(const PreparedScene& scene, const Camera& camera
                         auto progress = [&](double f) {
                             const double done = (double(first) + f * double(count)) / double(spp);
                             state->progress.store(done);
-                            if (opts.progress) opts.progress(done);
+                            if (opts.progress) {
+                                const InCallback in(state.get());
+                                opts.progress(done);
+                            }
                         };
                         accumulate(result.stats, runPass(p, cam, s, fb, first, count, progress, &state->cancel));
-                        if (opts.onPass) opts.onPass(state->image, first + count);
+                        if (opts.onPass) {
+                            const InCallback in(state.get());
+                            opts.onPass(state->image, first + count);
+                        }
                     }
                 });
                 result.status = JobStatus::Finished;
@@ -214,6 +239,7 @@ RenderJob Renderer::renderAsync(const PreparedScene& scene, const Camera& camera
             result.framebuffer = result.status == JobStatus::Finished ? &state->image : nullptr;
             if (opts.onComplete) {
                 try {
+                    const InCallback in(state.get());
                     opts.onComplete(result);
                 } catch (...) {
                     // A throwing completion callback must not take the process down

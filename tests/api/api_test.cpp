@@ -946,3 +946,47 @@ TEST(ApiVersion, LibraryAndHeadersAgree) {
 }
 
 }  // namespace
+
+// Waiting for a job inside its own callbacks could never return (the job's
+// thread, or a render thread it waits for, would wait for itself): it throws,
+// and the job still finishes. Waiting for the job from outside still works.
+TEST(ApiAsync, WaitingInsideTheJobsOwnCallbacksThrowsInsteadOfDeadlocking) {
+    const pnb::Renderer renderer = quietRenderer();
+    const pnb::PreparedScene prepared = renderer.prepare(roomScene());
+    pnb::RenderSettings st;
+    st.width = 16;
+    st.height = 16;
+    st.spp = 4;
+    pnb::RenderJob job;
+    std::atomic<int> progressThrew{0}, passThrew{0}, completeThrew{0};
+    const auto throwsInvalid = [&](std::atomic<int>& count, auto&& call) {
+        if (codeOf(call) == pnb::ErrorCode::InvalidArgument) ++count;
+    };
+    pnb::AsyncOptions options;
+    options.passSamples = 2;
+    options.progress = [&](double) { throwsInvalid(progressThrew, [&] { job.wait(); }); };
+    options.onPass = [&](const pnb::Framebuffer&, std::uint32_t) {
+        throwsInvalid(passThrew, [&] { job.wait(); });
+        throwsInvalid(passThrew, [&] { (void)job.stats(); });
+    };
+    options.onComplete = [&](const pnb::JobResult&) {
+        throwsInvalid(completeThrew, [&] { (void)job.framebuffer(); });
+        throwsInvalid(completeThrew, [&] { (void)job.error(); });
+    };
+    // The callbacks read `job` only once it is assigned: the first pass waits for this.
+    std::mutex assigned;
+    std::unique_lock<std::mutex> hold(assigned);
+    auto gate = options.progress;
+    options.progress = [&, gate](double f) {
+        { std::lock_guard<std::mutex> wait(assigned); }
+        gate(f);
+    };
+    job = renderer.renderAsync(prepared, roomCamera(), st, options);
+    hold.unlock();
+    job.wait();
+    EXPECT_EQ(job.status(), pnb::JobStatus::Finished);
+    EXPECT_GT(progressThrew.load(), 0);
+    EXPECT_EQ(passThrew.load(), 4);      // two passes, two calls each
+    EXPECT_EQ(completeThrew.load(), 2);
+    EXPECT_EQ(job.framebuffer().width(), 16);
+}

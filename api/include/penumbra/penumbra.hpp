@@ -389,7 +389,9 @@ struct AsyncOptions {
     std::uint32_t passSamples = 0;
     std::function<void(const Framebuffer& image, std::uint32_t samplesDone)> onPass;
     /// Called once on the job's thread when it ends (finished, cancelled or
-    /// failed), before wait() returns. Must not wait() on its own job.
+    /// failed), before wait() returns. Waiting for the job inside any of its
+    /// own callbacks (wait(), framebuffer(), stats(), error()) throws Error
+    /// (InvalidArgument): it could never return.
     std::function<void(const JobResult& result)> onComplete;
     // The job destroys its copies of these callbacks before wait() returns.
 };

@@ -6,6 +6,7 @@
 #include "core/lane_clones.h"
 #include "core/scratch_array.h"
 #include "lights/environment_light.h"
+#include "lights/light_selection.h"
 #include "shading/bsdf/phong.h"
 #include "shading/bsdf/phong_sampling.h"
 #include "shading/light_windows.h"
@@ -134,7 +135,7 @@ DirectLight::DirectLight(const Scene& scene, const Accelerator& accel, const Lig
                          const RenderSettings& settings)
     : scene_(scene), accel_(accel), lights_(lights), lightSamples_(static_cast<uint32_t>(settings.lightSamples)),
       mode_(settings.directLight),
-      picker_(settings.lightSelection == LightSelection::Power ? &lights.powerPicker() : nullptr) {
+      picker_(lightPicker(lights, settings.lightSelection)) {
     for (size_t j = 0; j < lights.size(); ++j) sampledLights_ |= !lights[j].isDelta();
     findClearTargets(scene);
 }

@@ -5,6 +5,7 @@
 
 #include "core/scratch_array.h"
 #include "lights/environment_light.h"
+#include "lights/light_selection.h"
 #include "shading/bsdf/dielectric.h"
 #include "shading/mis.h"
 #include "shading/bsdf/phong.h"
@@ -23,7 +24,7 @@ struct PathVertexLane {
     // How the ray being traced was chosen, for the MIS weight of an emitter it hits.
     bool specular = true;  // a delta bounce (or the camera ray): emission counts in full
     float bsdfPdf = 0.f;   // solid-angle pdf of the bounce otherwise
-    Vec3f prevP;           // where the bounce left from
+    Vec3f prevP, prevN;    // where the bounce left from, and the geometric normal there
     int rays = 1;          // rays traced along the path (statistics)
     // Lobe probabilities at the current vertex: Phong (diffuse + glossy), mirror, glass.
     float pPhong = 0.f, pMirror = 0.f, pGlass = 0.f;
@@ -88,7 +89,7 @@ private:
 
 PathIntegrator::PathIntegrator(const IntegratorInputs& in)
     : Integrator(in.accel), scene_(in.scene), lights_(in.lights), settings_(in.settings),
-      surfaces_(in.scene, in.textures, in.pixelSpread) {}
+      surfaces_(in.scene, in.textures, in.pixelSpread), picker_(lightPicker(in.lights, in.settings.lightSelection)) {}
 
 Rgb PathIntegrator::escaped(const PathVertexLane& lane) const {
     const EnvironmentLight* env = lights_.environment();
@@ -99,7 +100,7 @@ Rgb PathIntegrator::escaped(const PathVertexLane& lane) const {
     // samples it too, so a BRDF-sampled ray that escapes is weighed against
     // the light strategy's density for the same direction.
     float lightPdf = env->pdf(lane.ray.d);
-    if (settings_.lightSelection == LightSelection::Power) lightPdf *= lights_.powerPicker().probability(lights_.size() - 1, lane.prevP, Vec3f{});
+    if (picker_) lightPdf *= picker_->probability(lights_.size() - 1, lane.prevP, lane.prevN);
     return L * powerHeuristic(1.f, lane.bsdfPdf, float(settings_.lightSamples), lightPdf);
 }
 
@@ -108,13 +109,13 @@ float PathIntegrator::scatterPdf(const PathVertexLane& lane, const Vec3f& wi) co
     return lane.pPhong * phongPdf(*lane.sp.material, lane.sp.kd, lane.sp.ns, lane.sp.wo, wi);
 }
 
-float PathIntegrator::emitterHitWeight(const Vec3f& prevP, float bsdfPdf, const Hit& hit) const {
+float PathIntegrator::emitterHitWeight(const Vec3f& prevP, const Vec3f& prevN, float bsdfPdf, const Hit& hit) const {
     const std::optional<size_t> j = lights_.lightOf(hit);
     if (!j) return 1.f;  // emission no light sample can find
     // The light strategy's density for this direction: n samples of this light
-    // (all lights), or n samples in total that pick it by power.
+    // (all lights), or n samples in total that pick it (LightPicker).
     float lightPdf = lights_[*j].pdf(prevP, hit);
-    if (settings_.lightSelection == LightSelection::Power) lightPdf *= lights_.powerPicker().probability(*j, prevP, Vec3f{});
+    if (picker_) lightPdf *= picker_->probability(*j, prevP, prevN);
     return powerHeuristic(1.f, bsdfPdf, float(settings_.lightSamples), lightPdf);
 }
 
@@ -152,7 +153,7 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
         packets.add(lane, ray, v.throughput * f * ls.L * (w * scale / (pickProbability * ls.pdf)));
     };
 
-    if (settings_.lightSelection == LightSelection::All) {
+    if (!picker_) {
         for (size_t j = 0; j < nLights; ++j) {
             const Light& light = lights_[j];
             for (size_t q = 0; q < nLit; ++q) {
@@ -181,14 +182,14 @@ void PathIntegrator::addDirectLight(std::span<PathVertexLane> lanes, std::span<c
             }
         }
     } else {
-        // n samples in total, each picking one light in proportion to its power.
+        // n samples in total, each picking one light.
         for (size_t q = 0; q < nLit; ++q) {
             const PathVertexLane& v = lanes[lit[q]];
             const OwenSobol2D seq = dimensionSequence(v.key, dims.powerPoint());
             const OwenSobol2D pickSeq = dimensionSequence(v.key, dims.powerPick());
             for (uint32_t k = 0; k < n; ++k) {
                 const uint32_t index = v.key.index * n + k;
-                const LightPicker::Pick pick = lights_.powerPicker().pick(pickSeq.point(index).x, v.sp.p, v.sp.ng);
+                const LightPicker::Pick pick = picker_->pick(pickSeq.point(index).x, v.sp.p, v.sp.ng);
                 if (!(pick.probability > 0.f) || !lights_[pick.index].mayReach(v.sp.p, v.sp.ng)) continue;
                 if (auto ls = lights_[pick.index].sample(v.sp.p, seq.point(index))) addSample(lit[q], *ls, pick.probability, invN);
             }
@@ -244,6 +245,7 @@ bool PathIntegrator::scatter(PathVertexLane& lane, int depth, RayCounts& counts)
         lane.throughput *= 1.f / survive;
     }
     lane.prevP = sp.p;
+    lane.prevN = sp.ng;
     lane.ray = spawnRay(sp.p, sp.ng, wi);
     ++lane.rays;
     return true;
@@ -281,7 +283,7 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
             surfaces_.shade(hit, lane.ray, lane.pathLength, lane.sp);
             const Material& m = *lane.sp.material;
             if (m.isEmissive() && (dot(lane.sp.wo, hit.ng) > 0.f || m.twoSidedEmission)) {
-                const float w = lane.specular ? 1.f : emitterHitWeight(lane.prevP, lane.bsdfPdf, hit);
+                const float w = lane.specular ? 1.f : emitterHitWeight(lane.prevP, lane.prevN, lane.bsdfPdf, hit);
                 lane.L += lane.throughput * m.ke * w;
             }
             if (depth == 0 && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};

@@ -45,8 +45,9 @@ private:
     void addDirectLight(std::span<PathVertexLane> lanes, std::span<const uint8_t> active, int depth,
                         RayCounts& counts) const;
     /// MIS weight of emission reached by a BRDF-sampled bounce from prevP
-    /// (solid-angle pdf bsdfPdf) at `hit`, against the light samples that could have found it.
-    float emitterHitWeight(const Vec3f& prevP, float bsdfPdf, const Hit& hit) const;
+    /// (geometric normal prevN, solid-angle pdf bsdfPdf) at `hit`, against
+    /// the light samples that could have found it.
+    float emitterHitWeight(const Vec3f& prevP, const Vec3f& prevN, float bsdfPdf, const Hit& hit) const;
     /// Solid-angle pdf with which the non-specular lobes (Phong) sample wi.
     float scatterPdf(const PathVertexLane& lane, const Vec3f& wi) const;
     /// Samples the lane's next direction; false when the path ends there.
@@ -56,6 +57,7 @@ private:
     const LightSet& lights_;
     RenderSettings settings_;
     SurfaceShading surfaces_;
+    const LightPicker* picker_;  // null: every light takes every vertex's samples
 };
 
 }  // namespace penumbra

@@ -126,8 +126,9 @@ void readValues(Options& o, const std::string& eye, const std::string& lookAt, c
     }
     if (!crop.empty()) o.crop = parseCrop(crop);
     if (!lightSelection.empty()) {
-        if (lightSelection != "all" && lightSelection != "power")
-            throw Error(ErrorCode::InvalidArgument, "--light-selection: expected all or power, got '" + lightSelection + "'");
+        if (lightSelection != "auto" && lightSelection != "all" && lightSelection != "power" && lightSelection != "tree")
+            throw Error(ErrorCode::InvalidArgument,
+                        "--light-selection: expected auto, all, power or tree, got '" + lightSelection + "'");
         o.lightSelection = lightSelection;
     }
     if (!model.empty()) {
@@ -188,7 +189,9 @@ ParseResult parseCommandLine(int argc, char** argv, const char* program) {
     app.add_option("--ambient", ambient, "Ambient light r,g,b (OBJ scenes have none unless asked)");
     app.add_option("--background", background, "Background radiance r,g,b");
     app.add_option("--crop", crop, "Render only the window x0,y0,x1,y1 of the full frame");
-    app.add_option("--light-selection", lightSelection, "all (every light, N samples each) or power");
+    app.add_option("--light-selection", lightSelection,
+                   "auto (default: tree for 8 lights or more, else all), all (every light, N samples each), power "
+                   "or tree (N samples in all, lights picked by power or by a light hierarchy)");
     app.add_option("--exposure", o.exposure, "Exposure in stops for PNG/JPG/TIF output");
     app.add_flag("--aovs", o.aovs, "Also write albedo, normal and depth (EXR channels or <stem>.aovs.exr)");
     app.add_option("--integrator", integrator, "whitted (default: direct light + mirrors + glass) or path (path tracing)");

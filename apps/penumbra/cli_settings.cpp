@@ -16,7 +16,10 @@ pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings s) {
     if (o.tileSize) s.tileSize = *o.tileSize;
     if (o.seed) s.seed = *o.seed;
     if (o.lightSelection)
-        s.lightSelection = *o.lightSelection == "power" ? pnb::LightSelection::Power : pnb::LightSelection::All;
+        s.lightSelection = *o.lightSelection == "all"     ? pnb::LightSelection::All
+                           : *o.lightSelection == "power" ? pnb::LightSelection::Power
+                           : *o.lightSelection == "tree"  ? pnb::LightSelection::Tree
+                                                          : pnb::LightSelection::Auto;
     s.crop = o.crop;
     s.aovs = o.aovs;
     if (o.integrator) s.integrator = *o.integrator == "path" ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;

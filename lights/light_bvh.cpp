@@ -1,265 +1,126 @@
+// The light hierarchy's queries: importance, pick and probability
+// (lights/light_bvh.h); its construction is lights/light_bvh_build.cpp.
 #include "lights/light_bvh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <limits>
 
 namespace penumbra {
 
 namespace {
 
-// cos and sin of max(0, a - b), from the cosines and sines of angles a and b in [0, pi].
-double cosMinusClamped(double sinA, double cosA, double sinB, double cosB) {
-    return cosA >= cosB ? 1.0 : cosA * cosB + sinA * sinB;
-}
-double sinMinusClamped(double sinA, double cosA, double sinB, double cosB) {
-    return cosA >= cosB ? 0.0 : sinA * cosB - cosA * sinB;
-}
+// Squared distances are taken as at least this: a point light at the
+// shading point itself is as near as can be told, not infinitely near.
+constexpr float kNearest2 = 1e-30f;
 
-// The box's share of the split cost: its surface area, plus a little of its
-// squared edge sum so that boxes of lights on one line (no area) still
-// prefer short splits.
-double boxMeasure(const Bounds3f& b) {
-    const Vec3f d = b.diagonal();
-    const double x = d.x, y = d.y, z = d.z;
-    return 2.0 * (x * y + y * z + z * x) + 1e-3 * (x + y + z) * (x + y + z);
-}
+// Nodes on the way from the root to a leaf: at most one per level of the
+// binary tree (kMaxSplitDepth levels of binned splits, then halving).
+constexpr size_t kMaxLevels = 2 * LightBVH::kMaxSplitDepth + 2;
 
 }  // namespace
 
-struct LightBVH::Item {
-    LightBounds bounds;
-    float power;
-    uint32_t light;
-    Vec3f centroid;
-};
-
-LightBVH::LightBVH(std::span<const std::optional<LightBounds>> bounds, std::span<const double> powers) {
-    trails_.resize(bounds.size());
-    const auto usable = [&](size_t j) {
-        const double p = j < powers.size() ? powers[j] : 0.0;
-        if (!bounds[j] || !(p > 0.0) || !isFinite(bounds[j]->box.lo) || !isFinite(bounds[j]->box.hi)) return 0.0;
-        return std::min(p, double(std::numeric_limits<float>::max()));
-    };
-    double strongest = 0.0;
-    for (size_t j = 0; j < bounds.size(); ++j) strongest = std::max(strongest, usable(j));
-    std::vector<Item> items;
-    for (size_t j = 0; j < bounds.size(); ++j) {
-        const float power = strongest > 0.0 ? float(usable(j) / strongest) : 0.f;
-        if (power > 0.f) items.push_back(Item{*bounds[j], power, uint32_t(j), bounds[j]->box.center()});
+// A loop over the children, without branches, so that it compiles to one
+// vector step; only the nearest child's distance is looked at afterwards.
+void LightBVH::importances(const Node& node, const Vec3f& p, const Vec3f& n, float (&out)[kWidth]) {
+    const float px = p.x, py = p.y, pz = p.z, nx = n.x, ny = n.y, nz = n.z;
+    const int32_t hasNormal = (nx != 0.f) | (ny != 0.f) | (nz != 0.f);
+    const float anx = std::fabs(nx), any = std::fabs(ny), anz = std::fabs(nz);
+    float raw[kWidth], dist2[kWidth];  // local: no stores that might alias the node
+    for (int c = 0; c < kWidth; ++c) {
+        const float wx = px - node.cx[c], wy = py - node.cy[c], wz = pz - node.cz[c];  // from the lights to p
+        const float d2 = wx * wx + wy * wy + wz * wz;
+        const float nw = nx * wx + ny * wy + nz * wz;
+        const float aw = node.ax[c] * wx + node.ay[c] * wy + node.az[c] * wz;
+        // The box's farthest reach above p's tangent plane, and (emitters
+        // facing one half-space) behind p along the axis.
+        const float aboveP = (anx * node.hx[c] + any * node.hy[c] + anz * node.hz[c]) - nw;
+        const float behindP = aw + (std::fabs(node.ax[c]) * node.hx[c] + std::fabs(node.ay[c]) * node.hy[c] +
+                                    std::fabs(node.az[c]) * node.hz[c]);
+        // Within the bounding sphere light may come from anywhere, from as near as its radius.
+        const int32_t inside = !(d2 > node.radius2[c]);
+        const float invD = 1.f / std::sqrt(std::max(d2, kNearest2));
+        const float sinB = node.radius[c] * invD;  // the half angle thetaB the sphere subtends
+        const float cosB = std::sqrt(std::max(0.f, 1.f - sinB * sinB));
+        // At the emitters: the angle from the cone's axis to p, less the cone's and thetaB.
+        float cosW = aw * invD;
+        cosW = node.twoSided[c] ? std::fabs(cosW) : cosW;
+        const float sinW = std::sqrt(std::max(0.f, 1.f - cosW * cosW));
+        const float cosO = node.cosO[c], sinO = node.sinO[c];
+        const int32_t inCone = cosW >= cosO;
+        const float cosX = inCone ? 1.f : cosW * cosO + sinW * sinO;
+        const float sinX = inCone ? 0.f : sinW * cosO - cosW * sinO;
+        const float cosEmit = (inside | (cosX >= cosB)) ? 1.f : cosX * cosB + sinX * sinB;
+        // At the receiver: the angle from n to the lights, less thetaB.
+        const float cosI = -nw * invD;
+        const float sinI = std::sqrt(std::max(0.f, 1.f - cosI * cosI));
+        const float cosReceive = (inside | !hasNormal | (cosI >= cosB)) ? 1.f : cosI * cosB + sinI * sinB;
+        // One select per test (their conjunction as one integer would not vectorise).
+        float value = node.power[c] * cosEmit * cosReceive;
+        value = (hasNormal == 0) | (aboveP > 0.f) ? value : 0.f;
+        value = (node.halfSpace[c] == 0) | (behindP > 0.f) ? value : 0.f;
+        value = cosEmit > node.cosE[c] ? value : 0.f;
+        value = cosReceive > 0.f ? value : 0.f;
+        dist2[c] = std::max(inside ? node.radius2[c] : d2, kNearest2);
+        raw[c] = value;
     }
-    if (items.empty()) return;
-    nodes_.reserve(2 * items.size() - 1);
-    build(items, 0, 0);
-}
-
-// Builds the node of `items` and those below it (depth-first: a node's first
-// child follows it); returns its bounds and power (its children's, united).
-LightBVH::Built LightBVH::build(std::span<Item> items, uint64_t turns, uint32_t depth) {
-    const uint32_t index = uint32_t(nodes_.size());
-    nodes_.emplace_back();
-    Built b{items[0].bounds, items[0].power};
-    if (items.size() == 1) {
-        nodes_[index].leaf = true;
-        nodes_[index].link = items[0].light;
-        trails_[items[0].light] = Trail{turns, depth};
-        depth_ = std::max(depth_, depth);
-    } else {
-        const size_t mid = split(items, depth);
-        const Built first = build(items.subspan(0, mid), turns, depth + 1);
-        const uint32_t second = uint32_t(nodes_.size());
-        const Built rest = build(items.subspan(mid), turns | (uint64_t(1) << depth), depth + 1);
-        b = Built{unite(first.bounds, rest.bounds), first.power + rest.power};
-        nodes_[index].leaf = false;
-        nodes_[index].link = second;
+    // Over the squared distance, scaled by the nearest child's so that no
+    // ratio overflows a float.
+    float nearest = kInfinity;
+    for (int c = 0; c < kWidth; ++c) nearest = raw[c] > 0.f ? std::min(nearest, dist2[c]) : nearest;
+    for (int c = 0; c < kWidth; ++c) {
+        const float scale = nearest / dist2[c];  // NaN only for points beyond the scene's range
+        out[c] = (raw[c] > 0.f) & (scale > 0.f) ? raw[c] * scale : 0.f;
     }
-    Node& node = nodes_[index];
-    node.center = b.bounds.box.center();
-    node.half = 0.5f * b.bounds.box.diagonal();
-    node.radius2 = lengthSquared(node.half);
-    node.radius = std::sqrt(node.radius2);
-    node.axis = b.bounds.axis;
-    node.cosThetaO = b.bounds.cosThetaO;
-    node.sinThetaO = std::sqrt(std::max(0.f, 1.f - b.bounds.cosThetaO * b.bounds.cosThetaO));
-    node.cosThetaE = b.bounds.cosThetaE;
-    node.power = b.power;
-    node.twoSided = b.bounds.twoSided;
-    // thetaO + thetaE <= pi/2, both in [0, pi/2]: cos(thetaO + thetaE) >= 0.
-    const float sinThetaE = std::sqrt(std::max(0.f, 1.f - node.cosThetaE * node.cosThetaE));
-    node.halfSpace = !node.twoSided && node.cosThetaO >= 0.f && node.cosThetaE >= 0.f &&
-                     node.cosThetaO * node.cosThetaE - node.sinThetaO * sinThetaE >= 0.f;
-    return b;
-}
-
-// Where items splits into the node's two children (they are reordered so
-// that the first child's come first): the binned split of least cost, or
-// half of them by count where no split separates them or the tree is deep.
-size_t LightBVH::split(std::span<Item> items, uint32_t depth) {
-    const size_t n = items.size();
-    Bounds3f centroids, box;
-    for (const Item& it : items) {
-        centroids.extend(it.centroid);
-        box.extend(it.bounds.box);
-    }
-    const Vec3f extent = centroids.diagonal();
-    const auto halve = [&] {
-        const int axis = maxDimension(extent);
-        std::nth_element(items.begin(), items.begin() + std::ptrdiff_t(n / 2), items.end(),
-                         [axis](const Item& a, const Item& b) {
-                             return a.centroid[axis] < b.centroid[axis] ||
-                                    (a.centroid[axis] == b.centroid[axis] && a.light < b.light);
-                         });
-        return n / 2;
-    };
-    if (depth >= kMaxSplitDepth || !(maxComponent(extent) > 0.f)) return halve();
-
-    constexpr int kBuckets = 12;
-    const auto bucketOf = [&](const Item& it, int axis) {
-        const int k = int(float(kBuckets) * ((it.centroid[axis] - centroids.lo[axis]) / extent[axis]));
-        return std::clamp(k, 0, kBuckets - 1);
-    };
-    struct Cluster {
-        LightBounds bounds;
-        double power = 0.0;
-        size_t count = 0;
-        void add(const LightBounds& b, double p, size_t c) {
-            bounds = count ? unite(bounds, b) : b;
-            power += p;
-            count += c;
-        }
-        double cost() const {
-            return count ? power * orientationMeasure(bounds.cosThetaO, bounds.cosThetaE) * boxMeasure(bounds.box) : 0.0;
-        }
-    };
-    double bestCost = std::numeric_limits<double>::infinity();
-    int bestAxis = -1, bestBucket = 0;
-    const Vec3f boxExtent = box.diagonal();
-    for (int axis = 0; axis < 3; ++axis) {
-        if (!(extent[axis] > 0.f)) continue;
-        Cluster buckets[kBuckets];
-        for (const Item& it : items) buckets[bucketOf(it, axis)].add(it.bounds, it.power, 1);
-        // Splits after bucket s: the first s + 1 buckets against the rest.
-        double below[kBuckets - 1];
-        size_t belowCount[kBuckets - 1];
-        Cluster acc;
-        for (int s = 0; s < kBuckets - 1; ++s) {
-            if (buckets[s].count) acc.add(buckets[s].bounds, buckets[s].power, buckets[s].count);
-            below[s] = acc.cost();
-            belowCount[s] = acc.count;
-        }
-        // Thin boxes cut across their long side are no bargain: scale by the box's aspect.
-        const double aspect = double(maxComponent(boxExtent)) / double(boxExtent[axis]);
-        acc = Cluster{};
-        for (int s = kBuckets - 2; s >= 0; --s) {
-            if (buckets[s + 1].count) acc.add(buckets[s + 1].bounds, buckets[s + 1].power, buckets[s + 1].count);
-            if (belowCount[s] == 0 || belowCount[s] == n) continue;
-            const double cost = (below[s] + acc.cost()) * aspect;
-            if (cost < bestCost) {
-                bestCost = cost;
-                bestAxis = axis;
-                bestBucket = s;
-            }
-        }
-    }
-    if (bestAxis < 0) return halve();
-    const auto mid = std::partition(items.begin(), items.end(),
-                                    [&](const Item& it) { return bucketOf(it, bestAxis) <= bestBucket; });
-    return size_t(mid - items.begin());
-}
-
-// In double precision: squared distances and power ratios of scenes that
-// span the float range neither overflow nor vanish, so no light that reaches
-// a point loses its share to rounding.
-double LightBVH::importance(const Node& node, const Vec3f& p, const Vec3f& n) {
-    const double wx = double(p.x) - node.center.x, wy = double(p.y) - node.center.y, wz = double(p.z) - node.center.z;
-    const double d2 = wx * wx + wy * wy + wz * wz;  // w: from the lights towards p
-    // The box's farthest reach above p's tangent plane (n . x - n . p over the box) and,
-    // where every emitter sends light only into the half-space its axis faces, the box's
-    // reach behind p along the axis; where either is not positive, nothing arrives.
-    const bool hasNormal = n.x != 0.f || n.y != 0.f || n.z != 0.f;
-    const auto reach = [&](const Vec3f& dir, double sign) {
-        return sign * -(dir.x * wx + dir.y * wy + dir.z * wz) +
-               (std::fabs(dir.x) * node.half.x + std::fabs(dir.y) * node.half.y + std::fabs(dir.z) * node.half.z);
-    };
-    if (hasNormal && !(reach(n, 1.0) > 0.0)) return 0.0;
-    if (node.halfSpace && !(reach(node.axis, -1.0) > 0.0)) return 0.0;
-    // Within the bounding sphere: light may come from anywhere, from as near as
-    // its radius (a point light at p itself: as near as a float's square can tell).
-    if (!(d2 > double(node.radius2))) return node.power / std::max(double(node.radius2), 1e-76);
-    // The half angle thetaB the sphere subtends at p widens both angles below.
-    const double invD = 1.0 / std::sqrt(d2);
-    const double sinB = node.radius * invD, cosB = std::sqrt(std::max(0.0, 1.0 - sinB * sinB));
-    // At the emitters: the angle from the cone's axis to p, less the cone's and thetaB.
-    double cosEmit = 1.0;
-    if (node.cosThetaO > -1.f) {
-        double cosW = (node.axis.x * wx + node.axis.y * wy + node.axis.z * wz) * invD;
-        if (node.twoSided) cosW = std::fabs(cosW);
-        const double sinW = std::sqrt(std::max(0.0, 1.0 - cosW * cosW));
-        const double cosX = cosMinusClamped(sinW, cosW, node.sinThetaO, node.cosThetaO);
-        const double sinX = sinMinusClamped(sinW, cosW, node.sinThetaO, node.cosThetaO);
-        cosEmit = cosMinusClamped(sinX, cosX, sinB, cosB);
-        if (!(cosEmit > node.cosThetaE)) return 0.0;
-    }
-    // At the receiver: the angle from n to the lights, less thetaB.
-    double cosReceive = 1.0;
-    if (hasNormal) {
-        const double cosI = -(n.x * wx + n.y * wy + n.z * wz) * invD;
-        const double sinI = std::sqrt(std::max(0.0, 1.0 - cosI * cosI));
-        cosReceive = cosMinusClamped(sinI, cosI, sinB, cosB);
-        if (!(cosReceive > 0.0)) return 0.0;
-    }
-    const double value = node.power * cosEmit * cosReceive * (invD * invD);
-    return value > 0.0 ? value : 0.0;
-}
-
-float LightBVH::firstShare(double a, double b) {
-    if (!(b > 0.0)) return a > 0.0 ? 1.f : 0.f;
-    if (!(a > 0.0)) return 0.f;
-    return float(a / (a + b));
 }
 
 LightPicker::Pick LightBVH::pick(float u, const Vec3f& p, const Vec3f& n) const {
     if (empty()) return {0, 0.f, u};
     uint32_t k = 0;
     float probability = 1.f;
-    if (nodes_[0].leaf && !(importance(nodes_[0], p, n) > 0.0)) return {0, 0.f, u};
-    while (!nodes_[k].leaf) {
-        const uint32_t first = k + 1, second = nodes_[k].link;
-        const double a = importance(nodes_[first], p, n), b = importance(nodes_[second], p, n);
-        if (!(a > 0.0) && !(b > 0.0)) return {0, 0.f, u};
-        const float share = firstShare(a, b);
-        if (u < share) {
-            u = u / share;
-            probability *= share;
-            k = first;
-        } else {
-            u = (u - share) / (1.f - share);
-            probability *= 1.f - share;
-            k = second;
+    for (;;) {
+        const Node& node = nodes_[k];
+        float importance[kWidth];
+        importances(node, p, n, importance);
+        float total = 0.f;
+        for (int c = 0; c < kWidth; ++c) total += importance[c];
+        if (!(total > 0.f)) return {0, 0.f, u};
+        // The child whose share of [0, total) holds u * total (the last that
+        // has one, where rounding puts u * total at the end).
+        const float target = u * total;
+        int chosen = 0;
+        float below = 0.f, sum = 0.f;
+        for (int c = 0; c < kWidth; ++c) {
+            if (!(importance[c] > 0.f)) continue;
+            chosen = c;
+            below = sum;
+            sum += importance[c];
+            if (target < sum) break;
         }
-        u = std::min(u, 0x1.fffffep-1f);
+        probability *= importance[chosen] / total;
+        u = std::clamp((target - below) / importance[chosen], 0.f, 0x1.fffffep-1f);
+        if (node.leaf[chosen]) return {node.child[chosen], probability, u};
+        k = node.child[chosen];
     }
-    return {nodes_[k].link, probability, u};
 }
 
 float LightBVH::probability(size_t j, const Vec3f& p, const Vec3f& n) const {
     if (!holds(j)) return 0.f;
-    const Trail trail = trails_[j];
-    if (trail.depth == 0) return importance(nodes_[0], p, n) > 0.0 ? 1.f : 0.f;
-    uint32_t k = 0;
+    // The path from the leaf up, then its shares from the root down, in pick()'s order.
+    std::array<Place, kMaxLevels> path;
+    size_t levels = 0;
+    for (Place at = leaves_[j]; at.node != kNone && levels < path.size();
+         at = Place{nodes_[at.node].parent, nodes_[at.node].parentSlot})
+        path[levels++] = at;
     float probability = 1.f;
-    for (uint32_t level = 0; level < trail.depth; ++level) {
-        const uint32_t first = k + 1, second = nodes_[k].link;
-        const double a = importance(nodes_[first], p, n), b = importance(nodes_[second], p, n);
-        if (!(a > 0.0) && !(b > 0.0)) return 0.f;
-        const float share = firstShare(a, b);
-        if ((trail.turns >> level) & 1u) {
-            probability *= 1.f - share;
-            k = second;
-        } else {
-            probability *= share;
-            k = first;
-        }
+    for (size_t l = levels; l-- > 0;) {
+        float importance[kWidth];
+        importances(nodes_[path[l].node], p, n, importance);
+        float total = 0.f;
+        for (int c = 0; c < kWidth; ++c) total += importance[c];
+        const float mine = importance[path[l].slot];
+        if (!(total > 0.f) || !(mine > 0.f)) return 0.f;
+        probability *= mine / total;
     }
     return probability;
 }

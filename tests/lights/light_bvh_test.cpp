@@ -171,7 +171,7 @@ TEST(LightBVH, UnderCeilingLightsEveryPickFindsOne) {
             powers.push_back(std::pow(1000.0, double((i * 7 + j * 13) % 16) / 15.0));
         }
     const LightBVH tree(bounds, powers);
-    EXPECT_LE(tree.depth(), 12u);
+    EXPECT_LE(tree.depth(), 6u);  // 256 lights, 4 children a node: 4 levels when balanced
     std::mt19937 rng(4);
     std::uniform_real_distribution<float> u(-12.f, 12.f);
     for (int k = 0; k < 100; ++k) {
@@ -270,7 +270,7 @@ TEST(LightBVH, DegenerateInputs) {
     {  // One light: probability 1 wherever it reaches.
         const std::vector<std::optional<LightBounds>> b = {point({0, 1, 0})};
         const LightBVH tree(b, std::vector<double>{5.0});
-        EXPECT_EQ(tree.depth(), 0u);
+        EXPECT_EQ(tree.depth(), 1u);
         EXPECT_EQ(tree.probability(0, p, n), 1.f);
         const LightPicker::Pick pick = tree.pick(0.37f, p, n);
         EXPECT_EQ(pick.index, 0u);
@@ -299,7 +299,7 @@ TEST(LightBVH, DegenerateInputs) {
             powers.push_back(1.0 + i % 4);
         }
         const LightBVH tree(b, powers);
-        EXPECT_LE(tree.depth(), 7u);  // halved by count: balanced
+        EXPECT_LE(tree.depth(), 4u);  // halved by count: balanced, 4 children a node
         double sum = 0;
         for (int i = 0; i < 100; ++i) {
             const float pi = tree.probability(size_t(i), p, n);
@@ -325,8 +325,8 @@ TEST(LightBVH, DegenerateInputs) {
             EXPECT_GT(pick.probability, 0.f);
             EXPECT_EQ(pick.probability, tree.probability(pick.index, p, n));
         }
-        // At a light's own position (distance 0), and from a huge distance.
-        for (const Vec3f& q : {Vec3f{1, 1, 0}, Vec3f{0, -1e30f, 0}}) {
+        // At a light's own position (distance 0), and from the far end of the accelerators' range.
+        for (const Vec3f& q : {Vec3f{1, 1, 0}, Vec3f{0, -1.8e18f, 0}}) {
             double s = 0;
             for (size_t j = 0; j < 4; ++j) s += tree.probability(j, q, Vec3f{});
             EXPECT_NEAR(s, 1.0, 1e-5) << q.y;

@@ -4,14 +4,19 @@
 
 namespace penumbra {
 
-const LightPicker* lightPicker(const LightSet& lights, LightSelection selection) {
-    switch (selection) {
-        case LightSelection::All: return nullptr;
+LightSelection resolvedLightSelection(const RenderSettings& settings, size_t lightCount) {
+    if (settings.lightSelection != LightSelection::Auto) return settings.lightSelection;
+    const size_t fewest =
+        settings.integrator == IntegratorKind::Path ? kAutoTreeMinLightsPath : kAutoTreeMinLightsWhitted;
+    return lightCount >= fewest ? LightSelection::Tree : LightSelection::All;
+}
+
+const LightPicker* lightPicker(const LightSet& lights, const RenderSettings& settings) {
+    switch (resolvedLightSelection(settings, lights.size())) {
         case LightSelection::Power: return &lights.powerPicker();
         case LightSelection::Tree: return &lights.bvhPicker();
-        case LightSelection::Auto: return lights.size() >= kAutoTreeMinLights ? &lights.bvhPicker() : nullptr;
+        default: return nullptr;
     }
-    return nullptr;
 }
 
 }  // namespace penumbra

@@ -1,9 +1,12 @@
 // Which LightPicker light samples use, for each --light-selection: the one
 // rule, asked by every integrator. `all` picks nothing (every light takes
 // every point's samples), `power` and `tree` name their pickers, and `auto`
-// (the default) takes the tree from kAutoTreeMinLights lights on and `all`
-// below, where sampling every light costs little and stratifies best
-// (docs/rendering.md, "Many lights").
+// (the default) takes the tree from a number of lights on and `all` below,
+// where sampling every light costs little and stratifies best. The number
+// depends on the integrator: under the path integrator the noise of indirect
+// light hides much of what stratifying each light gains, under Whitted's
+// direct light alone it does not (docs/rendering.md, "Many lights", has the
+// measurements).
 #pragma once
 
 #include <cstddef>
@@ -16,11 +19,16 @@ namespace penumbra {
 class LightSet;
 
 /// The fewest lights (of every kind, the environment included) for which
-/// LightSelection::Auto picks lights by the tree.
-inline constexpr size_t kAutoTreeMinLights = 8;
+/// LightSelection::Auto picks lights by the tree, per integrator.
+inline constexpr size_t kAutoTreeMinLightsPath = 8;
+inline constexpr size_t kAutoTreeMinLightsWhitted = 256;
 
-/// The picker for `selection` over `lights` (which it points into); nullptr
-/// where every light takes every point's samples.
-const LightPicker* lightPicker(const LightSet& lights, LightSelection selection);
+/// The selection settings.lightSelection stands for with `lightCount`
+/// lights: Auto resolved by the integrator; the others as they are.
+LightSelection resolvedLightSelection(const RenderSettings& settings, size_t lightCount);
+
+/// The picker light samples use under `settings` over `lights` (which it
+/// points into); nullptr where every light takes every point's samples.
+const LightPicker* lightPicker(const LightSet& lights, const RenderSettings& settings);
 
 }  // namespace penumbra

@@ -135,7 +135,7 @@ DirectLight::DirectLight(const Scene& scene, const Accelerator& accel, const Lig
                          const RenderSettings& settings)
     : scene_(scene), accel_(accel), lights_(lights), lightSamples_(static_cast<uint32_t>(settings.lightSamples)),
       mode_(settings.directLight),
-      picker_(lightPicker(lights, settings.lightSelection)) {
+      picker_(lightPicker(lights, settings)) {
     for (size_t j = 0; j < lights.size(); ++j) sampledLights_ |= !lights[j].isDelta();
     findClearTargets(scene);
 }

@@ -89,7 +89,7 @@ private:
 
 PathIntegrator::PathIntegrator(const IntegratorInputs& in)
     : Integrator(in.accel), scene_(in.scene), lights_(in.lights), settings_(in.settings),
-      surfaces_(in.scene, in.textures, in.pixelSpread), picker_(lightPicker(in.lights, in.settings.lightSelection)) {}
+      surfaces_(in.scene, in.textures, in.pixelSpread), picker_(lightPicker(in.lights, in.settings)) {}
 
 Rgb PathIntegrator::escaped(const PathVertexLane& lane) const {
     const EnvironmentLight* env = lights_.environment();

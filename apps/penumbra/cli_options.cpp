@@ -190,8 +190,8 @@ ParseResult parseCommandLine(int argc, char** argv, const char* program) {
     app.add_option("--background", background, "Background radiance r,g,b");
     app.add_option("--crop", crop, "Render only the window x0,y0,x1,y1 of the full frame");
     app.add_option("--light-selection", lightSelection,
-                   "auto (default: tree for 8 lights or more, else all), all (every light, N samples each), power "
-                   "or tree (N samples in all, lights picked by power or by a light hierarchy)");
+                   "auto (default: tree from 8 lights with path, from 256 with whitted, else all), all (every light, "
+                   "N samples each), power or tree (N samples in all, lights picked by power or by a light hierarchy)");
     app.add_option("--exposure", o.exposure, "Exposure in stops for PNG/JPG/TIF output");
     app.add_flag("--aovs", o.aovs, "Also write albedo, normal and depth (EXR channels or <stem>.aovs.exr)");
     app.add_option("--integrator", integrator, "whitted (default: direct light + mirrors + glass) or path (path tracing)");

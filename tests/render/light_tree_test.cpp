@@ -3,7 +3,7 @@
 // small lights, a large light (so that BSDF samples and their MIS weights
 // count), a point light in the tree and a directional light and an
 // environment beside it; films are bit-identical for any thread count and
-// tile size; `auto` picks the tree from kAutoTreeMinLights lights on; a light
+// tile size; `auto` picks the tree from its integrator's number of lights on; a light
 // of 3e38 radiance leaves no NaN.
 #include <gtest/gtest.h>
 
@@ -99,7 +99,7 @@ class LightTree : public ::testing::TestWithParam<IntegratorKind> {};
 
 TEST_P(LightTree, SameMeanAsSamplingEveryLight) {
     const PreparedScene ps(manyLights(5), {}, quietLogger());
-    ASSERT_GE(ps.lights().size(), kAutoTreeMinLights);
+    ASSERT_GE(ps.lights().size(), 8u);
     // Image means over seeds: their spread bounds the difference.
     constexpr int kSeeds = 4;
     double mAll = 0, mTree = 0, vAll = 0, vTree = 0;
@@ -135,10 +135,13 @@ TEST_P(LightTree, BitIdenticalForAnyThreadsAndTiles) {
         EXPECT_EQ(std::memcmp(other.data(), one.data(), one.size() * sizeof(float)), 0)
             << threads << " threads, tile " << tile;
     }
-    // The default (auto) is the tree here: the same image.
+    // The default (auto) gives the image of the selection it stands for.
     st.lightSelection = LightSelection::Auto;
     const std::vector<float> byDefault = renderImage(ps, st);
-    EXPECT_EQ(std::memcmp(byDefault.data(), one.data(), one.size() * sizeof(float)), 0);
+    st.lightSelection = resolvedLightSelection(st, ps.lights().size());
+    EXPECT_EQ(st.lightSelection, GetParam() == IntegratorKind::Path ? LightSelection::Tree : LightSelection::All);
+    const std::vector<float> resolved = renderImage(ps, st);
+    EXPECT_EQ(std::memcmp(byDefault.data(), resolved.data(), one.size() * sizeof(float)), 0);
 }
 
 TEST_P(LightTree, MisWeightsUseTheBounceNormal) {
@@ -158,7 +161,7 @@ TEST_P(LightTree, MisWeightsUseTheBounceNormal) {
     for (int i = 0; i < 8; ++i)  // a x b faces +z
         s.rectangles.push_back(Rectangle{Vec3f{-1.9f + 0.5f * float(i), 1.f, -0.5f}, Vec3f{0.2f, 0, 0}, Vec3f{0, 0.2f, 0}, 2});
     const PreparedScene ps(std::move(s), {}, quietLogger());
-    ASSERT_GE(ps.lights().size(), kAutoTreeMinLights);
+    ASSERT_GE(ps.lights().size(), 8u);
     CameraDesc c;
     c.eye = Vec3f{0, 1.5f, 0.8f};
     c.lookAt = Vec3f{0, 1.5f, 0};
@@ -183,16 +186,32 @@ INSTANTIATE_TEST_SUITE_P(Integrators, LightTree, ::testing::Values(IntegratorKin
                          [](const auto& info) { return info.param == IntegratorKind::Path ? "Path" : "Whitted"; });
 
 TEST(LightTreeSelection, AutoTakesTheTreeFromEnoughLights) {
+    const auto pickerFor = [](const PreparedScene& ps, LightSelection selection, IntegratorKind integrator) {
+        RenderSettings st;
+        st.lightSelection = selection;
+        st.integrator = integrator;
+        return lightPicker(ps.lights(), st);
+    };
+    constexpr IntegratorKind kPath = IntegratorKind::Path, kWhitted = IntegratorKind::Whitted;
     // 1 x 1 grid: the quad, the corner light, the point, the directional light and the environment: 5 lights.
     const PreparedScene few(manyLights(1), {}, quietLogger());
-    ASSERT_LT(few.lights().size(), kAutoTreeMinLights);
-    EXPECT_EQ(lightPicker(few.lights(), LightSelection::Auto), nullptr);
-    EXPECT_EQ(lightPicker(few.lights(), LightSelection::All), nullptr);
-    EXPECT_EQ(lightPicker(few.lights(), LightSelection::Tree), &few.lights().bvhPicker());
-    EXPECT_EQ(lightPicker(few.lights(), LightSelection::Power), &few.lights().powerPicker());
-    const PreparedScene many(manyLights(2), {}, quietLogger());
-    ASSERT_GE(many.lights().size(), kAutoTreeMinLights);
-    EXPECT_EQ(lightPicker(many.lights(), LightSelection::Auto), &many.lights().bvhPicker());
+    ASSERT_EQ(few.lights().size(), 5u);
+    for (const IntegratorKind integrator : {kPath, kWhitted}) {
+        EXPECT_EQ(pickerFor(few, LightSelection::Auto, integrator), nullptr);
+        EXPECT_EQ(pickerFor(few, LightSelection::All, integrator), nullptr);
+        EXPECT_EQ(pickerFor(few, LightSelection::Tree, integrator), &few.lights().bvhPicker());
+        EXPECT_EQ(pickerFor(few, LightSelection::Power, integrator), &few.lights().powerPicker());
+    }
+    // 8 lights: the tree for paths, every light for Whitted's direct light.
+    const PreparedScene eight(manyLights(2), {}, quietLogger());
+    ASSERT_EQ(eight.lights().size(), kAutoTreeMinLightsPath);
+    EXPECT_EQ(pickerFor(eight, LightSelection::Auto, kPath), &eight.lights().bvhPicker());
+    EXPECT_EQ(pickerFor(eight, LightSelection::Auto, kWhitted), nullptr);
+    // 16 x 16 + 4 = 260 lights: the tree for both.
+    const PreparedScene many(manyLights(16), {}, quietLogger());
+    ASSERT_GE(many.lights().size(), kAutoTreeMinLightsWhitted);
+    EXPECT_EQ(pickerFor(many, LightSelection::Auto, kPath), &many.lights().bvhPicker());
+    EXPECT_EQ(pickerFor(many, LightSelection::Auto, kWhitted), &many.lights().bvhPicker());
 }
 
 TEST(LightTreeSelection, EveryLightOfTheSetOnFloorPointsFacingUp) {

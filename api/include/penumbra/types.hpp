@@ -137,7 +137,7 @@ enum class LightSelection {
     All,    ///< every light gets lightSamples samples at every shading point
     Power,  ///< lightSamples samples in total, lights picked in proportion to power
     Tree,   ///< lightSamples samples in total, lights picked by a light hierarchy at each point
-    Auto,   ///< Tree for scenes of many lights (8 or more), else All (the default)
+    Auto,   ///< Tree for scenes of many lights (path: 8 or more, whitted: 256 or more), else All (the default)
 };
 
 /// How the integrator estimates the direct light of area lights

@@ -14,7 +14,10 @@
       facing down over the same 32 x 32 area, each its own material, radiance
       spread over three orders of magnitude; the JSON places the camera and
       renders 160x120, 4 spp, with the path integrator. The same grid always
-      gives the same files.
+      gives the same files. --merged writes the quads instead as one object of
+      one material of their mean radiance (one light of many triangles, as an
+      emissive mesh is), --uniform gives every quad that radiance: the pair
+      measures what lights of single primitives gain the light hierarchy.
 """
 import argparse
 import json
@@ -56,7 +59,7 @@ def json_scene(out):
         f.write("\n")
 
 
-def obj_scene(folder, kx, kz):
+def obj_scene(folder, kx, kz, merged=False, uniform=False):
     """The kx x kz-light OBJ scene in folder (see the module's doc)."""
     folder.mkdir(parents=True, exist_ok=True)
     half = 16.0  # the grid spans [-half, half] in x and z
@@ -97,14 +100,25 @@ def obj_scene(folder, kx, kz):
             box((cx - w, 0, cz - w), (cx + w, h, cz + w), "crate" if (i + j) % 2 else "slate", f"box{n}")
             n += 1
     # The lights: 0.25 x 0.25 quads at y = 6, facing down, radiance 0.05 to 50.
+    radiance = {(i, j): 0.05 * 1000.0 ** (((i * 37 + j * 61 + (i * j) % 17) % 101) / 100.0)
+                for i in range(kx) for j in range(kz)}
+    mean = sum(radiance.values()) / len(radiance)
+    if merged:
+        mtl.append(f"newmtl lights\nKd 0 0 0\nKe {mean:.5g} {mean:.5g} {mean:.5g}\n")
+        faces.append("o lights\nusemtl lights")
     for i in range(kx):
         for j in range(kz):
-            r = ((i * 37 + j * 61 + (i * j) % 17) % 101) / 100.0
-            le = 0.05 * 1000.0 ** r
+            le = mean if uniform else radiance[(i, j)]
             name = f"light{i:02d}_{j:02d}"
-            mtl.append(f"newmtl {name}\nKd 0 0 0\nKe {le:.5g} {le:.5g} {le:.5g}\n")
             x, z = -half + (i + 0.5) * sx - 0.125, -half + (j + 0.5) * sz - 0.125
-            quad([(x, 6, z), (x + 0.25, 6, z), (x + 0.25, 6, z + 0.25), (x, 6, z + 0.25)], name, name)
+            corners = [(x, 6, z), (x + 0.25, 6, z), (x + 0.25, 6, z + 0.25), (x, 6, z + 0.25)]
+            if merged:
+                base = len(v) + 1
+                v.extend(corners)
+                faces.append(f"f {base} {base + 1} {base + 2} {base + 3}")
+                continue
+            mtl.append(f"newmtl {name}\nKd 0 0 0\nKe {le:.5g} {le:.5g} {le:.5g}\n")
+            quad(corners, name, name)
     with open(folder / "many_lights.mtl", "w") as f:
         f.write("# Written by scripts/make_many_lights.py --obj\n" + "\n".join(mtl))
     with open(folder / "many_lights.obj", "w") as f:
@@ -130,10 +144,12 @@ def main():
     ap.add_argument("out", nargs="?", default="assets/scenes/many_lights.json", help="the JSON scene (without --obj)")
     ap.add_argument("--obj", type=Path, help="write the OBJ scene into this folder instead")
     ap.add_argument("--grid", default="32", help="the OBJ scene's lights: K (K x K, default 32) or KxM")
+    ap.add_argument("--merged", action="store_true", help="the OBJ scene's quads as one light of their mean radiance")
+    ap.add_argument("--uniform", action="store_true", help="every quad of the OBJ scene at the mean radiance")
     a = ap.parse_args()
     if a.obj:
         kx, _, kz = a.grid.partition("x")
-        obj_scene(a.obj, int(kx), int(kz or kx))
+        obj_scene(a.obj, int(kx), int(kz or kx), a.merged, a.uniform)
     else:
         json_scene(a.out)
 

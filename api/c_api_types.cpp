@@ -32,7 +32,6 @@ PNB_SAME_VALUE(PNB_INTEGRATOR_WHITTED, pnb::IntegratorKind::Whitted);
 PNB_SAME_VALUE(PNB_INTEGRATOR_PATH, pnb::IntegratorKind::Path);
 PNB_SAME_VALUE(PNB_DIRECT_LIGHT_MIS, pnb::DirectLightSampling::Mis);
 PNB_SAME_VALUE(PNB_DIRECT_LIGHT_LIGHT, pnb::DirectLightSampling::Light);
-PNB_SAME_VALUE(PNB_DIRECT_LIGHT_AREA, pnb::DirectLightSampling::Area);
 PNB_SAME_VALUE(PNB_BUILD_LOW, pnb::BuildQuality::Low);
 PNB_SAME_VALUE(PNB_BUILD_MEDIUM, pnb::BuildQuality::Medium);
 PNB_SAME_VALUE(PNB_BUILD_HIGH, pnb::BuildQuality::High);
@@ -135,7 +134,7 @@ pnb::RenderSettings in(const pnb_render_settings& s) {
                          "integrator " + std::to_string(integrator) + " is not a pnb_integrator");
     r.integrator = integrator == PNB_INTEGRATOR_PATH ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
     const int direct = rawEnum(s.direct_light);
-    if (direct < PNB_DIRECT_LIGHT_MIS || direct > PNB_DIRECT_LIGHT_AREA)
+    if (direct != PNB_DIRECT_LIGHT_MIS && direct != PNB_DIRECT_LIGHT_LIGHT)
         throw pnb::Error(pnb::ErrorCode::InvalidArgument,
                          "direct_light " + std::to_string(direct) + " is not a pnb_direct_light");
     r.directLight = static_cast<pnb::DirectLightSampling>(direct);

@@ -1,5 +1,6 @@
 #include "lights/light_selection.h"
 
+#include "core/error.h"
 #include "lights/light_set.h"
 
 namespace penumbra {
@@ -11,12 +12,18 @@ LightSelection resolvedLightSelection(const RenderSettings& settings, size_t lig
     return lightCount >= fewest ? LightSelection::Tree : LightSelection::All;
 }
 
-const LightPicker* lightPicker(const LightSet& lights, const RenderSettings& settings) {
-    switch (resolvedLightSelection(settings, lights.size())) {
+const LightPicker* lightPicker(const LightSet& lights, LightSelection resolved) {
+    switch (resolved) {
+        case LightSelection::All: return nullptr;
         case LightSelection::Power: return &lights.powerPicker();
         case LightSelection::Tree: return &lights.bvhPicker();
-        default: return nullptr;
+        case LightSelection::Auto: break;
     }
+    throw Error(ErrorCode::InvalidArgument, "light selection: auto must be resolved for an integrator first");
+}
+
+const LightPicker* lightPicker(const LightSet& lights, const RenderSettings& settings) {
+    return lightPicker(lights, resolvedLightSelection(settings, lights.size()));
 }
 
 }  // namespace penumbra

@@ -27,8 +27,11 @@ inline constexpr size_t kAutoTreeMinLightsWhitted = 256;
 /// lights: Auto resolved by the integrator; the others as they are.
 LightSelection resolvedLightSelection(const RenderSettings& settings, size_t lightCount);
 
-/// The picker light samples use under `settings` over `lights` (which it
-/// points into); nullptr where every light takes every point's samples.
+/// The picker of a resolved selection over `lights` (which it points into);
+/// nullptr for All, where every light takes every point's samples. Auto,
+/// which depends on the integrator, is an InvalidArgument error.
+const LightPicker* lightPicker(const LightSet& lights, LightSelection resolved);
+/// The picker light samples use under `settings` over `lights`.
 const LightPicker* lightPicker(const LightSet& lights, const RenderSettings& settings);
 
 }  // namespace penumbra

@@ -101,6 +101,12 @@ public:
     const EnvironmentLight* environment() const { return environment_; }
 
 private:
+    // The constructor's steps: the mesh lights, the area lights' bounding
+    // spheres and primitives, then the point, directional and environment lights.
+    void addMeshLights();
+    void addEmitterBounds();
+    void addDeltaAndEnvironmentLights(RgbImage environmentImage);
+
     const Scene& scene_;
     std::vector<std::unique_ptr<Light>> lights_;
     // Every area-light primitive, light by light; emitters_[i]: light i's

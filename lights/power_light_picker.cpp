@@ -1,21 +1,23 @@
 #include "lights/power_light_picker.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace penumbra {
 
 PowerLightPicker::PowerLightPicker(const std::vector<double>& powers) {
+    // The running sums stay in double until they are divided by the total:
+    // lights may emit more than the largest float.
+    std::vector<double> sums;
     double acc = 0.0;
     for (const double power : powers) {
         acc += std::max(0.0, power);
-        cdf_.push_back(static_cast<float>(acc));
+        sums.push_back(acc);
     }
-    if (acc > 0.0) {
-        for (float& c : cdf_) c = static_cast<float>(c / acc);
-    } else {
-        // No power anywhere: fall back to uniform selection.
-        for (size_t i = 0; i < cdf_.size(); ++i) cdf_[i] = float(i + 1) / float(cdf_.size());
-    }
+    cdf_.resize(sums.size());
+    for (size_t i = 0; i < sums.size(); ++i)
+        // Without a finite total of power (none, or an infinite one), uniform selection.
+        cdf_[i] = acc > 0.0 && std::isfinite(acc) ? float(sums[i] / acc) : float(i + 1) / float(sums.size());
     if (!cdf_.empty()) cdf_.back() = 1.f;
 }
 

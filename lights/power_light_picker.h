@@ -11,7 +11,7 @@ namespace penumbra {
 class PowerLightPicker final : public LightPicker {
 public:
     /// powers: each light's power (negative and NaN ones count as 0); where
-    /// none is positive and finite in sum, every light is equally likely.
+    /// their sum is not positive and finite, every light is equally likely.
     explicit PowerLightPicker(const std::vector<double>& powers);
 
     Pick pick(float u, const Vec3f& p, const Vec3f& n) const override;

@@ -7,8 +7,7 @@
 #include "core/scratch_array.h"
 #include "lights/environment_light.h"
 #include "lights/light_selection.h"
-#include "shading/bsdf/phong.h"
-#include "shading/bsdf/phong_sampling.h"
+#include "shading/bsdf/bsdf.h"
 #include "shading/light_windows.h"
 #include "shading/mis.h"
 #include "shading/shadow_lanes.h"
@@ -24,7 +23,7 @@ static_assert(DirectLight::kMaxPoints <= size_t(kLaneWidth), "a call's points fi
 
 // The fewest BSDF samples per shading point for which LightWindows drops the
 // samples that can meet no light: building the windows costs about as much
-// as making and testing five samples (docs/benchmarks.md, "Direct light").
+// as making and testing five samples (docs/rendering.md, "MIS").
 constexpr uint32_t kMinWindowedBsdfSamples = 6;
 
 // Solid angle (sr) from which a light counts as large for a Lambertian point.
@@ -83,22 +82,22 @@ constexpr float kLargeLightSolidAngle = 1.f;
 // added[c] (Rgb{} for the others). Returns the shadow rays traced.
 uint32_t traceLightLanes(const Light& light, const ShadowLanes& at, const uint64_t (&keys)[kLaneWidth],
                          const uint32_t (&indices)[kLaneWidth], uint32_t n, const uint32_t (&ks)[kLaneWidth],
-                         const int32_t* want, int m, float nBsdf, const Accelerator& accel, Rgb* added) {
+                         const int32_t* want, int m, const Accelerator& accel, Rgb* added) {
     // Every lane's point, also where it is not needed: one loop, no branches.
     alignas(64) float ux[kLaneWidth], uy[kLaneWidth];
     OwenSobol2D::pointLanes(keys, indices, n, ks, ux, uy);
     LightLanes samples;
     light.sampleLanes(at.points(), ux, uy, want, m, samples);
-    return at.trace(samples, m, float(n), nBsdf, accel, added);
+    return at.trace(samples, m, float(n), accel, added);
 }
 
 // Queues light sample ls of point q: its weight by shadowSampleWeight (scale,
-// lightPdf, mis, nLight, nBsdf as there), its ray towards the sampled point
-// (or along its direction, for lights at infinity).
+// lightPdf, misCount, nLight as there), its ray towards the sampled point (or
+// along its direction, for lights at infinity).
 void queueLightSample(ShadowQueue& queue, size_t q, const ShadingPoint& sp, const LightSample& ls, float scale,
-                      float lightPdf, bool mis, float nLight, float nBsdf) {
+                      float lightPdf, float misCount, float nLight) {
     Rgb weight;
-    if (!shadowSampleWeight(sp, ls, scale, lightPdf, mis, nLight, nBsdf, weight)) return;
+    if (!shadowSampleWeight(sp, ls, scale, lightPdf, misCount, nLight, weight)) return;
     queue.add(q, std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point), weight);
 }
 
@@ -114,28 +113,28 @@ struct DirectLight::Call {
     // lobe's sampling and the light's pdf); where the lobe is sharp, half as
     // many still carry the highlight, and the power heuristic weighs each
     // strategy by its count.
-    Call(const Points& p, Rgb* sums, RayCounts& rc, uint32_t dimensionBase, uint32_t samples)
-        : points(p), sum(sums), counts(rc), dimBase(dimensionBase), n(samples), nBsdf((samples + 1) / 2),
+    Call(const Points& p, Rgb* sums, RayCounts& rc, int depth, size_t lights, uint32_t samples)
+        : points(p), sum(sums), counts(rc), dims(depth, lights), n(samples), nBsdf((samples + 1) / 2),
           invN(1.f / float(samples)) {}
 
     const Points& points;
     Rgb* sum;  // per point: the estimate so far
     RayCounts& counts;
-    uint32_t dimBase;  // the points' first sample dimension (their bounce depth's)
-    uint32_t n;        // light samples per point (per light; in all with picked lights)
-    uint32_t nBsdf;    // BSDF samples per point that takes them
+    VertexDimensions dims;  // the points' sample dimensions (their bounce depth's)
+    uint32_t n;             // light samples per point (per light; in all with picked lights)
+    uint32_t nBsdf;         // BsdfSamples::Own: BSDF samples per point that takes them
     float invN;
-    LanePoints at;                 // the points and geometric normals as lanes
-    bool mis[kMaxPoints] = {};     // the point takes BSDF samples, and its light samples are weighed against them
-    bool anyMis = false;
+    LanePoints at;                  // the points and geometric normals as lanes
+    float misCount[kMaxPoints];     // the BSDF samples a point's light samples are weighed against (0: none)
+    bool ownBsdfSamples = false;    // some point takes BSDF samples of its own
     ShadowLanes lanes;  // the points as the lanes of a packet: the one-sample strategy's
 };
 
 DirectLight::DirectLight(const Scene& scene, const Accelerator& accel, const LightSet& lights,
-                         const RenderSettings& settings)
-    : scene_(scene), accel_(accel), lights_(lights), lightSamples_(static_cast<uint32_t>(settings.lightSamples)),
-      mode_(settings.directLight),
-      picker_(lightPicker(lights, settings)) {
+                         const Options& options)
+    : scene_(scene), accel_(accel), lights_(lights), lightSamples_(static_cast<uint32_t>(options.lightSamples)),
+      bsdf_(options.areaSamples ? BsdfSamples::None : options.bsdf), areaSamples_(options.areaSamples),
+      picker_(lightPicker(lights, options.selection)) {
     for (size_t j = 0; j < lights.size(); ++j) sampledLights_ |= !lights[j].isDelta();
     findClearTargets(scene);
 }
@@ -195,6 +194,46 @@ float DirectLight::bsdfSampleWeight(size_t j, float lightPdf, float nBsdf, float
     return powerHeuristic(nBsdf, bsdfPdf, float(lightSamples_), lightPdf);
 }
 
+float DirectLight::emitterHitWeight(const Hit& hit, float nBsdf, float bsdfPdf, const Vec3f& p, const Vec3f& n) const {
+    const std::optional<size_t> j = lights_.lightOf(hit);
+    if (!j) return 1.f;  // emission no light sample can find
+    return bsdfSampleWeight(*j, lights_[*j].pdf(p, hit), nBsdf, bsdfPdf, p, n);
+}
+
+float DirectLight::escapeWeight(const Vec3f& dir, float nBsdf, float bsdfPdf, const Vec3f& p, const Vec3f& n) const {
+    const EnvironmentLight* env = lights_.environment();
+    if (!env) return 1.f;
+    return bsdfSampleWeight(lights_.size() - 1, env->pdf(dir), nBsdf, bsdfPdf, p, n);
+}
+
+Rgb DirectLight::escapedRadiance(const Vec3f& dir) const {
+    const EnvironmentLight* env = lights_.environment();
+    return env ? env->radiance(dir) : scene_.background;
+}
+
+// (Inline, as is sampleLight: both run in estimate's lane clones, once per call and light.)
+[[gnu::always_inline]] inline void DirectLight::decideBsdfSamples(Call& c) const {
+    const size_t n = c.points.n;
+    if (bsdf_ == BsdfSamples::Caller) {
+        std::copy_n(c.points.bsdfCount, n, c.misCount);
+        return;
+    }
+    std::fill_n(c.misCount, n, 0.f);
+    if (bsdf_ != BsdfSamples::Own || !sampledLights_) return;
+    alignas(64) int32_t take[kLaneWidth];
+    c.ownBsdfSamples = takesBsdfSamples(c.points.sp, c.at, int(n), lights_, take);
+    for (size_t q = 0; q < n; ++q) c.misCount[q] = take[q] ? float(c.nBsdf) : 0.f;
+}
+
+[[gnu::always_inline]] inline void DirectLight::sampleLight(size_t j, Call& c) const {
+    const Light& light = lights_[j];
+    if (light.isDelta()) return sampleDeltaLight(light, c);
+    if (areaSamples_) return sampleByArea(j, c);
+    if (c.n == 1) return sampleOnePerPoint(j, c);
+    if (c.n < uint32_t(kLaneWidth)) return samplePairs(j, c);
+    sampleManyPerPoint(j, c);
+}
+
 PENUMBRA_LANE_CLONES void DirectLight::estimate(const Points& points, int depth, Rgb* direct,
                                                 RayCounts& counts) const {
     const size_t nLights = lights_.size();
@@ -202,60 +241,52 @@ PENUMBRA_LANE_CLONES void DirectLight::estimate(const Points& points, int depth,
     std::fill_n(direct, n, Rgb{});
     if (nLights == 0) return;
     const uint32_t samples = lightSamples_;
-    Call c(points, direct, counts, kFirstLightDimension + uint32_t(depth) * uint32_t(nLights + 2), samples);
-    // Point and directional lights alone need neither the points as lanes nor BSDF samples.
-    if (sampledLights_) {
+    Call c(points, direct, counts, depth, nLights, samples);
+    // Point and directional lights alone need the points neither as lanes nor for BSDF samples.
+    if (sampledLights_)
         for (size_t q = 0; q < n; ++q) c.at.set(int(q), points.sp[q]->p, points.sp[q]->ng);
-        decideBsdfSamples(c);
-    }
+    decideBsdfSamples(c);
     if (picker_) {
         samplePickedLights(c);
     } else {
-        if (sampledLights_ && samples == 1 && mode_ != DirectLightSampling::Area) {
+        if (sampledLights_ && samples == 1 && !areaSamples_) {
             c.lanes.setPoints(c.at);
-            for (size_t q = 0; q < n; ++q) c.lanes.setShading(int(q), *points.sp[q], c.mis[q]);
+            for (size_t q = 0; q < n; ++q) c.lanes.setShading(int(q), *points.sp[q], c.misCount[q]);
         }
         for (size_t j = 0; j < nLights; ++j) sampleLight(j, c);
     }
-    if (c.anyMis) sampleBsdf(c);
+    if (c.ownBsdfSamples) sampleBsdf(c);
 }
 
-void DirectLight::decideBsdfSamples(Call& c) const {
-    if (mode_ != DirectLightSampling::Mis) return;
-    alignas(64) int32_t take[kLaneWidth];
-    c.anyMis = takesBsdfSamples(c.points.sp, c.at, int(c.points.n), lights_, take);
-    for (size_t q = 0; q < c.points.n; ++q) c.mis[q] = take[q] != 0;
-}
-
-void DirectLight::sampleLight(size_t j, Call& c) const {
-    const Light& light = lights_[j];
-    if (light.isDelta()) return sampleDeltaLight(light, c);
-    if (mode_ == DirectLightSampling::Area) return sampleByArea(j, c);
-    if (c.n == 1) return sampleOnePerPoint(j, c);
-    if (c.n < uint32_t(kLaneWidth)) return samplePairs(j, c);
-    sampleManyPerPoint(j, c);
-}
-
-// A point or directional light: one exact sample per point.
-PENUMBRA_LANE_CLONES void DirectLight::sampleDeltaLight(const Light& light, Call& c) const {
+// The strategies that queue one sample at a time: each point's samples
+// (sampleAt(q, sp, key, queue)) go through one shadow queue, and their sum
+// times `scale` is added to the point's estimate.
+template <class SampleAt>
+void DirectLight::queueSamples(Call& c, float scale, SampleAt sampleAt) const {
     const size_t count = c.points.n;
-    const float n = float(c.n), nBsdf = float(c.nBsdf);
     ScratchArray<Rgb, kMaxPoints> acc;
     ShadowQueue queue(accel_, c.counts.shadow, acc.data());
     for (size_t q = 0; q < count; ++q) {
         acc[q] = Rgb{};
-        const ShadingPoint& sp = *c.points.sp[q];
-        if (auto ls = light.sample(sp.p, Vec2f{0.5f, 0.5f})) queueLightSample(queue, q, sp, *ls, 1.f, 1.f, false, n, nBsdf);
+        sampleAt(q, *c.points.sp[q], c.points.key[q], queue);
     }
     queue.flush();
-    for (size_t q = 0; q < count; ++q) c.sum[q] += acc[q];
+    for (size_t q = 0; q < count; ++q) c.sum[q] += acc[q] * scale;
+}
+
+// A point or directional light: one exact sample per point.
+PENUMBRA_LANE_CLONES void DirectLight::sampleDeltaLight(const Light& light, Call& c) const {
+    const float n = float(c.n);
+    queueSamples(c, 1.f, [&](size_t q, const ShadingPoint& sp, const SampleKey&, ShadowQueue& queue) {
+        if (auto ls = light.sample(sp.p, Vec2f{0.5f, 0.5f})) queueLightSample(queue, q, sp, *ls, 1.f, 1.f, 0.f, n);
+    });
 }
 
 // One sample per point: every step over the points as the lanes of a packet.
 PENUMBRA_LANE_CLONES void DirectLight::sampleOnePerPoint(size_t j, Call& c) const {
     const Light& light = lights_[j];
     const size_t n = c.points.n;
-    const uint32_t dim = c.dimBase + uint32_t(j);
+    const uint32_t dim = c.dims.light(j);
     alignas(64) int32_t reach[kLaneWidth];
     alignas(64) uint64_t keys[kLaneWidth];
     alignas(64) uint32_t indices[kLaneWidth];
@@ -267,7 +298,7 @@ PENUMBRA_LANE_CLONES void DirectLight::sampleOnePerPoint(size_t j, Call& c) cons
     }
     ScratchArray<Rgb, kMaxPoints> added;
     c.counts.shadow +=
-        traceLightLanes(light, c.lanes, keys, indices, 1, first, reach, int(n), float(c.nBsdf), accel_, added.data());
+        traceLightLanes(light, c.lanes, keys, indices, 1, first, reach, int(n), accel_, added.data());
     const float invN = c.invN;
     for (size_t q = 0; q < n; ++q) c.sum[q] += added[q] * invN;
 }
@@ -277,9 +308,8 @@ PENUMBRA_LANE_CLONES void DirectLight::sampleOnePerPoint(size_t j, Call& c) cons
 // takes its samples in sample order whatever the batch holds.
 PENUMBRA_LANE_CLONES void DirectLight::samplePairs(size_t j, Call& c) const {
     const Light& light = lights_[j];
-    const uint32_t dim = c.dimBase + uint32_t(j), n = c.n;
+    const uint32_t dim = c.dims.light(j), n = c.n;
     const size_t count = c.points.n;
-    const float nBsdf = float(c.nBsdf);
     ShadowLanes pairs;
     alignas(64) uint64_t keys[kLaneWidth] = {};
     alignas(64) uint32_t indices[kLaneWidth] = {}, sampleOf[kLaneWidth] = {};
@@ -290,7 +320,7 @@ PENUMBRA_LANE_CLONES void DirectLight::samplePairs(size_t j, Call& c) const {
     const auto tracePairs = [&] {
         ScratchArray<Rgb, kLaneWidth> added;
         c.counts.shadow +=
-            traceLightLanes(light, pairs, keys, indices, n, sampleOf, want, m, nBsdf, accel_, added.data());
+            traceLightLanes(light, pairs, keys, indices, n, sampleOf, want, m, accel_, added.data());
         for (int l = 0; l < m; ++l) acc[owner[l]] += added[l];
         m = 0;
     };
@@ -303,9 +333,9 @@ PENUMBRA_LANE_CLONES void DirectLight::samplePairs(size_t j, Call& c) const {
         const uint64_t key = dimensionKey(c.points.key[q], dim);
         const uint32_t index = c.points.key[q].index;
         const ShadingPoint& sp = *c.points.sp[q];
-        const bool mis = c.mis[q];
+        const float misCount = c.misCount[q];
         for (uint32_t k = 0; k < n; ++k) {
-            pairs.setLane(m, sp, mis);
+            pairs.setLane(m, sp, misCount);
             keys[m] = key;
             indices[m] = index;
             sampleOf[m] = k;
@@ -323,8 +353,8 @@ PENUMBRA_LANE_CLONES void DirectLight::samplePairs(size_t j, Call& c) const {
 // of a packet, in sample order.
 PENUMBRA_LANE_CLONES void DirectLight::sampleManyPerPoint(size_t j, Call& c) const {
     const Light& light = lights_[j];
-    const uint32_t dim = c.dimBase + uint32_t(j), n = c.n;
-    const float nBsdf = float(c.nBsdf), invN = c.invN;
+    const uint32_t dim = c.dims.light(j), n = c.n;
+    const float invN = c.invN;
     constexpr uint32_t W = uint32_t(kLaneWidth);
     ShadowLanes lanes;
     for (size_t q = 0; q < c.points.n; ++q) {
@@ -335,7 +365,7 @@ PENUMBRA_LANE_CLONES void DirectLight::sampleManyPerPoint(size_t j, Call& c) con
             const OwenSobol2D seq = dimensionSequence(key, dim);
             // Where nothing can lie between the point and the light, its rays need no query.
             const bool clear = shadowsClear(j, sp.p, sp.ng);
-            lanes.setAll(sp, c.mis[q]);
+            lanes.setAll(sp, c.misCount[q]);
             for (uint32_t k0 = 0; k0 < n; k0 += W) {
                 const uint32_t m = std::min(n - k0, W);
                 alignas(64) float ux[W], uy[W];
@@ -343,7 +373,7 @@ PENUMBRA_LANE_CLONES void DirectLight::sampleManyPerPoint(size_t j, Call& c) con
                 LightLanes samples;
                 light.sampleManyLanes(sp.p, ux, uy, int(m), samples);
                 ScratchArray<Rgb, W> added;
-                c.counts.shadow += lanes.trace(samples, int(m), float(n), nBsdf, accel_, added.data(), clear);
+                c.counts.shadow += lanes.trace(samples, int(m), float(n), accel_, added.data(), clear);
                 for (uint32_t l = 0; l < m; ++l) acc += added[l];
             }
         }
@@ -355,53 +385,34 @@ PENUMBRA_LANE_CLONES void DirectLight::sampleManyPerPoint(size_t j, Call& c) con
 // estimator before solid-angle sampling, kept for comparisons.
 void DirectLight::sampleByArea(size_t j, Call& c) const {
     const Light& light = lights_[j];
-    const uint32_t dim = c.dimBase + uint32_t(j), n = c.n;
-    const size_t count = c.points.n;
-    ScratchArray<Rgb, kMaxPoints> acc;
-    ShadowQueue queue(accel_, c.counts.shadow, acc.data());
-    for (size_t q = 0; q < count; ++q) {
-        acc[q] = Rgb{};
-        const ShadingPoint& sp = *c.points.sp[q];
-        if (!light.mayReach(sp.p, sp.ng)) continue;  // every sample would be discarded
-        const OwenSobol2D seq = dimensionSequence(c.points.key[q], dim);
-        const uint32_t index = c.points.key[q].index;
+    const uint32_t dim = c.dims.light(j), n = c.n;
+    queueSamples(c, c.invN, [&](size_t q, const ShadingPoint& sp, const SampleKey& key, ShadowQueue& queue) {
+        if (!light.mayReach(sp.p, sp.ng)) return;  // every sample would be discarded
+        const OwenSobol2D seq = dimensionSequence(key, dim);
         for (uint32_t k = 0; k < n; ++k)
-            if (auto ls = light.sampleArea(sp.p, seq.point(index * n + k)))
-                queueLightSample(queue, q, sp, *ls, 1.f, ls->pdf, false, float(n), float(c.nBsdf));
-    }
-    queue.flush();
-    const float invN = c.invN;
-    for (size_t q = 0; q < count; ++q) c.sum[q] += acc[q] * invN;
+            if (auto ls = light.sampleArea(sp.p, seq.point(key.index * n + k)))
+                queueLightSample(queue, q, sp, *ls, 1.f, ls->pdf, 0.f, float(n));
+    });
 }
 
-// Picked lights (LightPicker): n samples per point in all, each picks one light.
+// Picked lights (LightPicker): n samples per point in all, each picks one
+// light with its point's x and samples it with the rest of the point.
 void DirectLight::samplePickedLights(Call& c) const {
-    const uint32_t dim = c.dimBase + uint32_t(lights_.size()), pickDim = dim + 0x9e37u, n = c.n;
-    const size_t count = c.points.n;
-    const bool area = mode_ == DirectLightSampling::Area;
-    ScratchArray<Rgb, kMaxPoints> acc;
-    ShadowQueue queue(accel_, c.counts.shadow, acc.data());
-    for (size_t q = 0; q < count; ++q) {
-        acc[q] = Rgb{};
-        const ShadingPoint& sp = *c.points.sp[q];
-        const SampleKey& key = c.points.key[q];
+    const uint32_t dim = c.dims.pickedLights(), n = c.n;
+    queueSamples(c, c.invN, [&](size_t q, const ShadingPoint& sp, const SampleKey& key, ShadowQueue& queue) {
         const OwenSobol2D seq = dimensionSequence(key, dim);
-        const OwenSobol2D pickSeq = dimensionSequence(key, pickDim);
         for (uint32_t k = 0; k < n; ++k) {
-            const uint32_t index = key.index * n + k;
-            const LightPicker::Pick pick = picker_->pick(pickSeq.point(index).x, sp.p, sp.ng);
+            const Vec2f u = seq.point(key.index * n + k);
+            const LightPicker::Pick pick = picker_->pick(u.x, sp.p, sp.ng);
             const Light& light = lights_[pick.index];
             if (!(pick.probability > 0.f) || !light.mayReach(sp.p, sp.ng)) continue;
-            const std::optional<LightSample> ls = area ? light.sampleArea(sp.p, seq.point(index))
-                                                       : light.sample(sp.p, seq.point(index));
+            const Vec2f v{pick.u, u.y};
+            const std::optional<LightSample> ls = areaSamples_ ? light.sampleArea(sp.p, v) : light.sample(sp.p, v);
             if (ls)
-                queueLightSample(queue, q, sp, *ls, 1.f / pick.probability, ls->pdf * pick.probability, c.mis[q],
-                                 float(n), float(c.nBsdf));
+                queueLightSample(queue, q, sp, *ls, 1.f / pick.probability, ls->pdf * pick.probability,
+                                 c.misCount[q], float(n));
         }
-    }
-    queue.flush();
-    const float invN = c.invN;
-    for (size_t q = 0; q < count; ++q) c.sum[q] = acc[q] * invN;
+    });
 }
 
 // BSDF-sampled rays of a batch's shading points, traced 16 at a time as
@@ -426,7 +437,7 @@ public:
     /// The sample in direction wi (from sampler.direction) at sp: f cos and
     /// the pdf are only evaluated where the ray may reach a light (a sample
     /// with a zero pdf adds nothing, as samplePhong drops it).
-    void add(size_t lane, const ShadingPoint& sp, const PhongSampler& sampler, const Vec3f& wi) {
+    void add(size_t lane, const ShadingPoint& sp, const BsdfSampler& sampler, const Vec3f& wi) {
         if (dot(wi, sp.ng) <= 0.f) return;  // below the geometric surface
         const Ray ray = spawnRay(sp.p, sp.ng, wi);
         if (!emittersFirst_) return addClosestHitQuery(lane, sp, sampler, ray);
@@ -434,7 +445,7 @@ public:
         Rgb added;
         const std::optional<LightSet::EmitterHit> e = lights_.firstEmitterHit(ray);
         if (!e && !lights_.environment()) return;  // nothing to reach
-        const PhongSample s = sampler.evaluate(wi);
+        const BsdfSample s = sampler.evaluate(wi);
         if (!(s.pdf > 0.f)) return;
         const Rgb weight = s.fCos * (1.f / s.pdf);
         if (e) {
@@ -472,8 +483,8 @@ public:
     }
 
 private:
-    void addClosestHitQuery(size_t lane, const ShadingPoint& sp, const PhongSampler& sampler, const Ray& ray) {
-        const PhongSample s = sampler.evaluate(ray.d);
+    void addClosestHitQuery(size_t lane, const ShadingPoint& sp, const BsdfSampler& sampler, const Ray& ray) {
+        const BsdfSample s = sampler.evaluate(ray.d);
         if (!(s.pdf > 0.f)) return;
         rays_[pending_] = ray;
         origins_[pending_] = sp.p;
@@ -533,17 +544,17 @@ PENUMBRA_LANE_CLONES void DirectLight::sampleBsdf(Call& c) const {
     // samples share them.
     const bool windowed =
         c.nBsdf >= kMinWindowedBsdfSamples && lights_.emittersTestable() && !lights_.environment();
-    const uint32_t dim = c.dimBase + uint32_t(lights_.size()) + 1;
+    const uint32_t dim = c.dims.bsdf();
     constexpr uint32_t W = uint32_t(OwenSobol2D::kLanes);
     static_assert(int(W) == LightWindows::kLanes);
     for (size_t q = 0; q < c.points.n; ++q) {
-        if (!c.mis[q]) continue;
+        if (!(c.misCount[q] > 0.f)) continue;
         const ShadingPoint& sp = *c.points.sp[q];
         const SampleKey& key = c.points.key[q];
         const OwenSobol2D seq = dimensionSequence(key, dim);
-        const PhongSampler sampler(*sp.material, sp.kd, sp.ns, sp.wo);
+        const BsdfSampler sampler(sp);
         std::optional<LightWindows> windows;
-        if (windowed) windows.emplace(sampler, lights_, sp.p);
+        if (windowed && sampler.phong()) windows.emplace(*sampler.phong(), lights_, sp.p);
         // 16 points at a time as lanes (OwenSobol2D::samplePointLanes), the same points as samplePoints.
         for (uint32_t k0 = 0; k0 < c.nBsdf; k0 += W) {
             const uint32_t m = std::min(c.nBsdf - k0, W);

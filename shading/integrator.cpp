@@ -1,7 +1,6 @@
 #include "shading/integrator.h"
 
 #include "core/error.h"
-#include "lights/environment_light.h"
 #include "shading/path_integrator.h"
 #include "shading/whitted_integrator.h"
 
@@ -24,11 +23,6 @@ std::unique_ptr<Integrator> makeIntegrator(const IntegratorInputs& in) {
         case IntegratorKind::Path: return std::make_unique<PathIntegrator>(in);
     }
     throw Error(ErrorCode::InvalidArgument, "unknown integrator " + std::to_string(int(in.settings.integrator)));
-}
-
-Rgb escapedRadiance(const Scene& scene, const LightSet& lights, const Vec3f& dir) {
-    const EnvironmentLight* env = lights.environment();
-    return env ? env->radiance(dir) : scene.background;
 }
 
 }  // namespace penumbra

@@ -23,8 +23,9 @@ namespace penumbra {
 class TextureCache;
 
 /// What an integrator is built from, once per render pass: the prepared
-/// scene's parts (which outlive it), the settings, and the angle (radians)
-/// one pixel subtends at the camera, which sizes texture filter footprints.
+/// scene's parts (which outlive it), the settings, the angle (radians) one
+/// pixel subtends at the camera, which sizes texture filter footprints, and
+/// the settings of the benchmark tools.
 struct IntegratorInputs {
     const Scene& scene;
     const Accelerator& accel;
@@ -32,6 +33,7 @@ struct IntegratorInputs {
     const TextureCache* textures;
     const RenderSettings& settings;
     float pixelSpread = 0.f;
+    InternalSettings internal = {};
 };
 
 class Integrator {
@@ -59,10 +61,5 @@ protected:
 
 /// The integrator settings.integrator names, built from `in`.
 std::unique_ptr<Integrator> makeIntegrator(const IntegratorInputs& in);
-
-/// Radiance a ray leaving the scene along `dir` sees: the environment light
-/// when the scene has one (lights.environment()), else Scene::background. The
-/// one rule for escaped rays, shared by every integrator.
-Rgb escapedRadiance(const Scene& scene, const LightSet& lights, const Vec3f& dir);
 
 }  // namespace penumbra

@@ -239,12 +239,13 @@ bool renderTile(const PassContext& c, const PixelRect& tile, RayCounts& counts) 
 }  // namespace
 
 PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDesc, const RenderSettings& settings,
-                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control) {
+                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control,
+                       const InternalSettings& internal) {
     checkPass(settings, film, firstSample, sampleCount);
     const Camera camera(cameraDesc, settings.width, settings.height);
     const float pixelSpread = 2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height);
     const std::unique_ptr<Integrator> integrator = makeIntegrator(
-        {prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings, pixelSpread});
+        {prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings, pixelSpread, internal});
     const PassContext context{prepared, camera,      *integrator, settings, film, film.window(), firstSample,
                               sampleCount, cameraDesc.aperture > 0.f, control.cancel};
 
@@ -299,9 +300,9 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
 }
 
 PassResult render(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings, Film& film,
-                   const RenderControl& control) {
+                   const RenderControl& control, const InternalSettings& internal) {
     return renderPass(prepared, camera, settings, film, film.sampleCount(), uint32_t(settings.spp) - film.sampleCount(),
-                      control);
+                      control, internal);
 }
 
 }  // namespace penumbra

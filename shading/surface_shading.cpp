@@ -41,6 +41,7 @@ PENUMBRA_LANE_CLONES void SurfaceShading::shade(const Hit& hit, const Ray& ray, 
     sp.wo = -ray.d;
     // Shading is two-sided: flip both normals to the viewer's side.
     const bool front = dot(sp.wo, hit.ng) > 0.f;
+    sp.front = front;
     sp.ng = front ? hit.ng : -hit.ng;
     sp.ns = front ? hit.ns : -hit.ns;
     sp.kd = diffuseAlbedo(*sp.material, hit, pathLength, sp.wo);

@@ -7,13 +7,20 @@
 
 #include "core/lane_clones.h"
 #include "core/scratch_array.h"
+#include "lights/light_selection.h"
 #include "shading/bsdf/dielectric.h"
+#include "shading/bsdf/mirror.h"
 
 namespace penumbra {
 
 WhittedIntegrator::WhittedIntegrator(const IntegratorInputs& in)
-    : Integrator(in.accel), scene_(in.scene), lights_(in.lights), settings_(in.settings),
-      surfaces_(in.scene, in.textures, in.pixelSpread), direct_(in.scene, in.accel, in.lights, in.settings) {
+    : Integrator(in.accel), scene_(in.scene), settings_(in.settings),
+      surfaces_(in.scene, in.textures, in.pixelSpread),
+      direct_(in.scene, in.accel, in.lights,
+              DirectLight::Options{in.settings.lightSamples, resolvedLightSelection(in.settings, in.lights.size()),
+                                   in.settings.directLight == DirectLightSampling::Mis ? DirectLight::BsdfSamples::Own
+                                                                                       : DirectLight::BsdfSamples::None,
+                                   in.internal.areaLightSamples}) {
     for (const Material& m : in.scene.materials) continues_ |= m.isMirror() || m.isDielectric();
     continues_ &= settings_.maxDepth > 0;
 }
@@ -24,40 +31,35 @@ struct PendingRay {
     Rgb throughput;
     float pathLength;
     int depth;
+    uint32_t branch;
 };
 
 // One camera sample's path through a batch. Plain values, so that a batch's
-// lanes are scratch storage: radianceBatch writes every field before reading
-// it, where zeroing 16 lanes for every batch showed in the profiles.
+// lanes are scratch storage: shadeBatch writes every field before reading it,
+// and 16 lanes are not zeroed for every batch.
 struct PathLane {
     Ray ray;
     const Hit* hit;                     // the ray's closest hit (in the batch's hit arrays); null: it escaped
-    ShadingPoint sp;                    // written by shade() where the ray hit
+    ShadingPoint sp;                    // written by SurfaceShading::shade where the ray hit
     Rgb L;
     Rgb throughput;
     float pathLength;
     SampleKey key;
     int depth;                          // bounces before the ray being traced
+    uint32_t branch;                    // which branch of the camera sample's tree of rays (branchNumbers)
     int longest;                        // rays along the deepest branch so far (path-length statistics)
     std::vector<PendingRay>* pending;   // transmitted rays still to trace (dielectrics), last first; null
                                         // where no lane can go on (WhittedIntegrator::continues_)
 };
 
 PENUMBRA_LANE_CLONES void WhittedIntegrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active,
-                                                            int depth,
-                                       RayCounts& counts) const {
-    // The lanes that need light samples, in lane order.
-    DirectLight::Points points;
-    uint8_t lane[kMaxBatch];
-    for (size_t i = 0; i < lanes.size(); ++i) {
-        if (!active[i] || !lanes[i].sp.reflectsLight()) continue;
-        lane[points.n] = static_cast<uint8_t>(i);
-        points.add(lanes[i].sp, lanes[i].key);
-    }
-    if (points.n == 0) return;
-    ScratchArray<Rgb, kMaxBatch> direct;
-    direct_.estimate(points, depth, direct.data(), counts);
-    for (size_t q = 0; q < points.n; ++q) lanes[lane[q]].L += lanes[lane[q]].throughput * direct[q];
+                                                            int depth, RayCounts& counts) const {
+    // Light samples where some light can reach the viewer (not at a black or pure mirror material).
+    const auto lit = [&](size_t i) -> std::optional<float> {
+        if (!active[i] || !lanes[i].sp.reflectsLight()) return std::nullopt;
+        return 0.f;
+    };
+    direct_.addTo(lanes, lit, depth, counts);
 }
 
 void WhittedIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
@@ -72,8 +74,8 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
                                                         std::span<FirstHit> firstHits, RayCounts& counts) const {
     const size_t n = std::min(cameraRays.size(), kMaxBatch);
     ScratchArray<PathLane, kMaxBatch> lanes;
-    // The lanes' stacks of pending rays, only where a lane can go on (16 vectors
-    // made and destroyed for every batch showed in the textbook scene's profile).
+    // The lanes' stacks of pending rays, only where a lane can go on: 16 vectors
+    // made and destroyed for every batch would cost more than most batches' shading.
     Deferred<std::array<std::vector<PendingRay>, kMaxBatch>> pending;
     if (continues_) pending.emplace();
     uint8_t active[kMaxBatch];
@@ -86,6 +88,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
         lane.pathLength = 0.f;
         lane.key = keys[i];
         lane.depth = 0;
+        lane.branch = 0;
         lane.longest = 0;
         lane.pending = continues_ ? &(*pending.get())[i] : nullptr;
         active[i] = 1;
@@ -102,7 +105,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             PathLane& lane = lanes[i];
             lane.longest = std::max(lane.longest, lane.depth + 1);
             if (!lane.hit) {
-                lane.L += lane.throughput * escapedRadiance(scene_, lights_, lane.ray.d);
+                lane.L += lane.throughput * direct_.escapedRadiance(lane.ray.d);
                 active[i] = 0;
                 continue;
             }
@@ -110,8 +113,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             lane.pathLength += hit.t;
             surfaces_.shade(hit, lane.ray, lane.pathLength, lane.sp);
             const Material& m = *lane.sp.material;
-            // Emission is one-sided: only the side the geometric normal faces emits.
-            if (m.isEmissive() && (dot(lane.sp.wo, hit.ng) > 0.f || m.twoSidedEmission)) lane.L += lane.throughput * m.ke;
+            if (lane.sp.emits()) lane.L += lane.throughput * m.ke;
             if (first && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};
             lane.L += lane.throughput * (m.ka * scene_.ambient);
         }
@@ -196,36 +198,67 @@ void WhittedIntegrator::addDirectLightByDepth(std::span<PathLane> lanes, std::sp
 bool WhittedIntegrator::continueLane(PathLane& lane, RayCounts& counts) const {
     const Material& m = *lane.sp.material;
     if (lane.depth >= settings_.maxDepth) return false;
+    if (lane.depth >= kExactDepth) return continueSampled(lane, counts);
     if (m.isDielectric()) {
         // Whitted 1980: the mirror ray and the transmitted ray, weighted by Fresnel. The lane follows
         // the mirror ray and keeps the transmitted one pending (its own stack, depth first), so a
-        // lane still traces one ray per step and the batch stays one packet.
-        const bool front = dot(lane.sp.wo, lane.hit->ng) > 0.f;
-        const float eta = front ? m.ior : 1.f / m.ior;
+        // lane still traces one ray per step and the batch stays one packet. The branches are
+        // numbered as the nodes of a binary tree (children 2b + 1 and 2b + 2).
+        const float eta = lane.sp.front ? m.ior : 1.f / m.ior;
         const DielectricSplit split = splitDielectric(lane.sp.wo, lane.sp.ns, lane.sp.ng, eta, Rgb(m.kt));
         const Rgb tt = lane.throughput * split.transmittedWeight;
         if (split.transmitted && !tt.isBlack()) {
-            lane.pending->push_back(
-                PendingRay{spawnRay(lane.sp.p, lane.sp.ng, *split.transmitted), tt, lane.pathLength, lane.depth + 1});
+            lane.pending->push_back(PendingRay{spawnRay(lane.sp.p, lane.sp.ng, *split.transmitted), tt,
+                                               lane.pathLength, lane.depth + 1, 2 * lane.branch + 2});
             ++counts.transmission;
         }
         lane.throughput *= split.reflectedWeight;
         if (lane.throughput.isBlack()) return false;
         lane.ray = spawnRay(lane.sp.p, lane.sp.ng, split.reflected);
         ++lane.depth;
+        lane.branch = 2 * lane.branch + 1;
         ++counts.reflection;
         return true;
     }
     if (!m.isMirror()) return false;
-    // r = d - 2(d.n)n about the shading normal; fall back to the geometric
-    // normal when smooth normals would send the ray below the surface.
-    Vec3f r = reflect(lane.ray.d, lane.sp.ns);
-    if (dot(r, lane.sp.ng) <= 0.f) r = reflect(lane.ray.d, lane.sp.ng);
     lane.throughput *= m.kr;
     if (lane.throughput.isBlack()) return false;
-    lane.ray = spawnRay(lane.sp.p, lane.sp.ng, normalize(r));
+    lane.ray = spawnRay(lane.sp.p, lane.sp.ng, mirrorDirection(lane.sp.wo, lane.sp.ns, lane.sp.ng));
     ++lane.depth;
     ++counts.reflection;
+    return true;
+}
+
+bool WhittedIntegrator::continueSampled(PathLane& lane, RayCounts& counts) const {
+    const Material& m = *lane.sp.material;
+    const BranchNumbers u = branchNumbers(lane.key, lane.depth + 1, lane.branch);
+    Vec3f wi;
+    bool transmitted = false;
+    if (m.isDielectric()) {
+        // One of the two rays, picked in proportion to its Fresnel weight (its weight over that probability).
+        const float eta = lane.sp.front ? m.ior : 1.f / m.ior;
+        const DielectricSample s = sampleDielectric(lane.sp.wo, lane.sp.ns, lane.sp.ng, eta, Rgb(m.kt), u.pick);
+        lane.throughput *= s.weight;
+        wi = s.wi;
+        transmitted = s.transmitted;
+    } else if (m.isMirror()) {
+        lane.throughput *= m.kr;
+        wi = mirrorDirection(lane.sp.wo, lane.sp.ns, lane.sp.ng);
+    } else {
+        return false;
+    }
+    if (lane.throughput.isBlack()) return false;
+    // Russian roulette: a branch of low throughput survives with a probability
+    // in proportion to it, and then carries the threshold.
+    const float most = lane.throughput.maxComponent();
+    if (most < kRouletteThroughput) {
+        const float survive = most / kRouletteThroughput;
+        if (!(u.survive < survive)) return false;
+        lane.throughput *= 1.f / survive;
+    }
+    lane.ray = spawnRay(lane.sp.p, lane.sp.ng, wi);
+    ++lane.depth;
+    ++(transmitted ? counts.transmission : counts.reflection);
     return true;
 }
 
@@ -236,6 +269,7 @@ bool WhittedIntegrator::resumePending(PathLane& lane) const {
     lane.throughput = p.throughput;
     lane.pathLength = p.pathLength;
     lane.depth = p.depth;
+    lane.branch = p.branch;
     lane.pending->pop_back();
     return true;
 }

@@ -4,6 +4,12 @@
 // weights), carried iteratively with a throughput: each lane follows one ray
 // and keeps the other branches on a small stack of its own (no recursion, so
 // any max depth is safe; the stack grows by at most one entry per bounce).
+//
+// Up to the default --max-depth every branch is traced. Beyond it, where the
+// rays a dielectric splits into would multiply without end, a lane follows one
+// of them, picked in proportion to its Fresnel weight, and a branch of low
+// throughput takes Russian roulette: the work then grows with the depth at
+// most as a mirror's does, and the estimate stays unbiased (docs/rendering.md).
 #pragma once
 
 #include <cstdint>
@@ -22,6 +28,14 @@ struct PathLane;
 
 class WhittedIntegrator final : public Integrator {
 public:
+    /// Bounce depths up to which every branch is traced: the default --max-depth
+    /// (RenderSettings::maxDepth), so that renders at it are exact Whitted.
+    static constexpr int kExactDepth = 10;
+    /// Beyond kExactDepth, a branch whose throughput's largest component is
+    /// below this survives Russian roulette with probability (that
+    /// component / this) and then carries it.
+    static constexpr float kRouletteThroughput = 1.f / 16.f;
+
     explicit WhittedIntegrator(const IntegratorInputs& in);
 
     /// The batch is shaded together: the shadow rays of all its shading
@@ -43,11 +57,12 @@ private:
     /// Sets the lane's next ray after its shading point (mirror, or a dielectric's mirror ray with the
     /// transmitted one kept pending); false when the branch ends.
     bool continueLane(PathLane& lane, RayCounts& counts) const;
+    /// continueLane beyond kExactDepth: one continuation, and Russian roulette.
+    bool continueSampled(PathLane& lane, RayCounts& counts) const;
     /// Makes the lane's last pending ray its current one; false when none is left.
     bool resumePending(PathLane& lane) const;
 
     const Scene& scene_;
-    const LightSet& lights_;
     RenderSettings settings_;
     SurfaceShading surfaces_;
     DirectLight direct_;

@@ -199,8 +199,7 @@ ParseResult parseCommandLine(int argc, char** argv, const char* program) {
     app.add_flag("--strict", o.strict, "Treat skippable scene problems as errors");
     app.add_flag("-q,--quiet", o.quiet, "No progress and no summary");
     app.add_option("--direct-light", directLight,
-                   "Area-light estimator: mis (light + BRDF samples, default), light (solid-angle light samples) "
-                   "or area (uniform-area light samples, the old estimator)");
+                   "Area-light estimator: mis (light + BRDF samples, default) or light (solid-angle light samples)");
     auto* oEnv = app.add_option("--env", env, "Environment light: radiance r,g,b or a lat-long image (.exr .hdr ...)");
     auto* oEnvRotate = app.add_option("--env-rotate", envRotate, "Turn the --env image by DEG about +y");
     app.add_option("--model", model, "Phong model of mesh and model files' materials: classic or normalized (default)");
@@ -246,8 +245,8 @@ ParseResult parseCommandLine(int argc, char** argv, const char* program) {
             o.integrator = integrator;
         }
         if (!directLight.empty()) {
-            if (directLight != "mis" && directLight != "light" && directLight != "area")
-                throw Error(ErrorCode::InvalidArgument, "--direct-light: expected mis, light or area, got '" + directLight + "'");
+            if (directLight != "mis" && directLight != "light")
+                throw Error(ErrorCode::InvalidArgument, "--direct-light: expected mis or light, got '" + directLight + "'");
             o.directLight = directLight;
         }
     } catch (const Error& e) {

@@ -36,7 +36,7 @@ struct Options {
     std::optional<std::string> integrator;  // "whitted" or "path"
     std::optional<pnb::PhongModel> model;  // --model: materials of mesh and model files
     std::optional<float> smoothAngle;      // --smooth-angle: degrees, [0, 180]
-    std::optional<std::string> directLight;  // mis, light or area
+    std::optional<std::string> directLight;  // mis or light
 };
 
 /// A bad command-line value found after parsing (checked against the

@@ -24,9 +24,7 @@ pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings s) {
     s.aovs = o.aovs;
     if (o.integrator) s.integrator = *o.integrator == "path" ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
     if (o.directLight)
-        s.directLight = *o.directLight == "area"    ? pnb::DirectLightSampling::Area
-                        : *o.directLight == "light" ? pnb::DirectLightSampling::Light
-                                                    : pnb::DirectLightSampling::Mis;
+        s.directLight = *o.directLight == "light" ? pnb::DirectLightSampling::Light : pnb::DirectLightSampling::Mis;
     return s;
 }
 

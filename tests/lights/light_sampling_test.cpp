@@ -403,7 +403,7 @@ TEST(LightSampling, SampleLanesLeaveLanesNotAskedForEmpty) {
 }
 
 TEST(LightSampling, AreaSamplingStillFitsItsPdf) {
-    // sampleArea (--direct-light area) against the area pdf converted to solid angle.
+    // sampleArea (the uniform-area baseline) against the area pdf converted to solid angle.
     Scene s = emitterScene(false);
     s.rectangles.push_back(Rectangle{Vec3f{1.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.1f}, Vec3f{0, 1.5f, 0}, 0});
     ShapeAreaLight light(s, ShapeAreaLight::Kind::Rectangle, 0);

@@ -2,8 +2,11 @@
 // probabilities MIS asks for, and the rescaled number handed back for reuse.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <vector>
 
+#include "lights/light_set.h"
 #include "lights/power_light_picker.h"
 
 using namespace penumbra;
@@ -44,4 +47,32 @@ TEST(PowerLightPicker, WithoutPowerEveryLightIsEquallyLikely) {
     const PowerLightPicker picker(std::vector<double>{0.0, -2.0, 0.0, 0.0});
     for (size_t j = 0; j < 4; ++j) EXPECT_FLOAT_EQ(picker.probability(j, Vec3f{}, Vec3f{}), 0.25f);
     EXPECT_EQ(picker.pick(0.6f, Vec3f{}, Vec3f{}).index, 2u);
+}
+
+// Issue 43: two sphere lights of radiance 3e38 have powers beyond the largest
+// float; their float total was infinite and every probability inf / inf, so
+// power selection picked neither. In double precision they split evenly.
+TEST(PowerLightPicker, LightsBrighterThanTheFloatRangeArePickedByPower) {
+    Scene s;
+    Material lamp;
+    lamp.kd = Rgb(0.f);
+    lamp.ke = Rgb(3e38f);
+    s.materials = {lamp};
+    s.spheres.push_back(Sphere{Vec3f{-1, 2, 0}, 0.5f, 0});
+    s.spheres.push_back(Sphere{Vec3f{1, 2, 0}, 0.5f, 0});
+    const LightSet lights(s);
+    ASSERT_EQ(lights.size(), 2u);
+    EXPECT_GT(lights[0].power(), double(std::numeric_limits<float>::max()));
+    EXPECT_TRUE(std::isfinite(lights[0].power() + lights[1].power()));
+    const PowerLightPicker& picker = lights.powerPicker();
+    EXPECT_FLOAT_EQ(picker.probability(0, Vec3f{}, Vec3f{}), 0.5f);
+    EXPECT_FLOAT_EQ(picker.probability(1, Vec3f{}, Vec3f{}), 0.5f);
+    EXPECT_EQ(picker.pick(0.75f, Vec3f{}, Vec3f{}).index, 1u);
+}
+
+TEST(PowerLightPicker, AnInfiniteTotalFallsBackToEqualChances) {
+    const double inf = std::numeric_limits<double>::infinity();
+    const PowerLightPicker picker(std::vector<double>{inf, 1.0});
+    EXPECT_FLOAT_EQ(picker.probability(0, Vec3f{}, Vec3f{}), 0.5f);
+    EXPECT_FLOAT_EQ(picker.probability(1, Vec3f{}, Vec3f{}), 0.5f);
 }

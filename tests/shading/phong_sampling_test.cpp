@@ -96,7 +96,7 @@ TEST(PhongSampling, ASamplerAtOnePointGivesSamplePhongsSamples) {
             const auto want = samplePhong(m, m.kd, n, wo, u), got = sampler.sample(u);
             ASSERT_EQ(got.has_value(), want.has_value()) << "sample " << i;
             const std::optional<Vec3f> wi = sampler.direction(u);
-            const std::optional<PhongSample> twoSteps =
+            const std::optional<BsdfSample> twoSteps =
                 wi && sampler.evaluate(*wi).pdf > 0.f ? std::optional(sampler.evaluate(*wi)) : std::nullopt;
             ASSERT_EQ(twoSteps.has_value(), want.has_value()) << "sample " << i;
             if (!want) continue;

@@ -128,13 +128,8 @@ typedef enum pnb_light_selection {
     PNB_LIGHTS_TREE = 2,
     PNB_LIGHTS_AUTO = 3
 } pnb_light_selection;
-/* Area-light estimator (docs/rendering.md): light + BRDF samples with MIS (default), light samples only,
-   or the old uniform-area light samples (for comparisons). */
-typedef enum pnb_direct_light {
-    PNB_DIRECT_LIGHT_MIS = 0,
-    PNB_DIRECT_LIGHT_LIGHT = 1,
-    PNB_DIRECT_LIGHT_AREA = 2
-} pnb_direct_light;
+/* Area-light estimator (docs/rendering.md): light + BRDF samples with MIS (default), or light samples only. */
+typedef enum pnb_direct_light { PNB_DIRECT_LIGHT_MIS = 0, PNB_DIRECT_LIGHT_LIGHT = 1 } pnb_direct_light;
 
 typedef enum pnb_integrator { PNB_INTEGRATOR_WHITTED = 0, PNB_INTEGRATOR_PATH = 1 } pnb_integrator;
 

@@ -140,12 +140,11 @@ enum class LightSelection {
     Auto,   ///< Tree for scenes of many lights (path: 8 or more, whitted: 256 or more), else All (the default)
 };
 
-/// How the integrator estimates the direct light of area lights
-/// (docs/rendering.md). Point and directional lights are exact in all three.
+/// How the Whitted integrator estimates the direct light of area lights
+/// (docs/rendering.md). Point and directional lights are exact in both.
 enum class DirectLightSampling {
     Mis,    ///< solid-angle light samples + Phong BRDF samples, power heuristic (default)
     Light,  ///< solid-angle light samples only
-    Area,   ///< light samples uniform in area only: the estimator before issue 15, for comparisons
 };
 
 /// What to render. The same scene, camera and settings give a bit-identical

@@ -128,12 +128,11 @@ def granularity(a, say, tmp):
     own = make_scene(tmp / "uniform", a.grid, "--uniform")
     merged = make_scene(tmp / "merged", a.grid, "--merged")
     for integrator in a.integrators.split(","):
-        say(f"\n{a.grid} quads at one radiance, --integrator {integrator}, 160x120, 4 spp, {a.rounds} rounds, "
-            f"reference: tree at {a.ref_spp} spp on the lights of their own")
+        say(f"\nthe {a.grid} grid's quads at one radiance, --integrator {integrator}, 160x120, 4 spp, "
+            f"{a.rounds} rounds, reference: tree at {a.ref_spp} spp on the lights of their own")
         ref = reference(a.build, own, integrator, a.ref_spp, a.threads)
-        configs = [("quads as lights, all", a.build, own, ["--light-selection", "all"]),
-                   ("quads as lights, tree", a.build, own, ["--light-selection", "tree"]),
-                   ("one mesh light (all)", a.build, merged, ["--light-selection", "all"])]
+        configs = [("quads as lights, tree", a.build, own, ["--light-selection", "tree"]),
+                   ("one mesh light, all", a.build, merged, ["--light-selection", "all"])]
         table(say, compare(configs, integrator, ref, a.rounds, a.threads, tmp), configs[0][0])
 
 

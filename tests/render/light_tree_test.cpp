@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/error.h"
 #include "core/log.h"
 #include "lights/light_selection.h"
 #include "shading/renderer.h"
@@ -201,6 +202,13 @@ TEST(LightTreeSelection, AutoTakesTheTreeFromEnoughLights) {
         EXPECT_EQ(pickerFor(few, LightSelection::All, integrator), nullptr);
         EXPECT_EQ(pickerFor(few, LightSelection::Tree, integrator), &few.lights().bvhPicker());
         EXPECT_EQ(pickerFor(few, LightSelection::Power, integrator), &few.lights().powerPicker());
+    }
+    // A picker for auto needs the integrator: unresolved, it is refused, never taken as some selection.
+    try {
+        (void)lightPicker(few.lights(), LightSelection::Auto);
+        ADD_FAILURE() << "an unresolved auto was accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
     }
     // 8 lights: the tree for paths, every light for Whitted's direct light.
     const PreparedScene eight(manyLights(2), {}, quietLogger());

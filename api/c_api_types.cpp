@@ -26,6 +26,8 @@ PNB_SAME_VALUE(PNB_PHONG_NORMALIZED, pnb::PhongModel::Normalized);
 PNB_SAME_VALUE(PNB_PHONG_CLASSIC, pnb::PhongModel::Classic);
 PNB_SAME_VALUE(PNB_LIGHTS_ALL, pnb::LightSelection::All);
 PNB_SAME_VALUE(PNB_LIGHTS_POWER, pnb::LightSelection::Power);
+PNB_SAME_VALUE(PNB_LIGHTS_TREE, pnb::LightSelection::Tree);
+PNB_SAME_VALUE(PNB_LIGHTS_AUTO, pnb::LightSelection::Auto);
 PNB_SAME_VALUE(PNB_INTEGRATOR_WHITTED, pnb::IntegratorKind::Whitted);
 PNB_SAME_VALUE(PNB_INTEGRATOR_PATH, pnb::IntegratorKind::Path);
 PNB_SAME_VALUE(PNB_DIRECT_LIGHT_MIS, pnb::DirectLightSampling::Mis);
@@ -123,10 +125,10 @@ pnb::RenderSettings in(const pnb_render_settings& s) {
     r.tileSize = s.tile_size;
     if (s.use_crop) r.crop = pnb::CropWindow{s.crop_x0, s.crop_y0, s.crop_x1, s.crop_y1};
     const int selection = rawEnum(s.light_selection);
-    if (selection != PNB_LIGHTS_ALL && selection != PNB_LIGHTS_POWER)
+    if (selection < PNB_LIGHTS_ALL || selection > PNB_LIGHTS_AUTO)
         throw pnb::Error(pnb::ErrorCode::InvalidArgument,
                          "light_selection " + std::to_string(selection) + " is not a pnb_light_selection");
-    r.lightSelection = selection == PNB_LIGHTS_POWER ? pnb::LightSelection::Power : pnb::LightSelection::All;
+    r.lightSelection = static_cast<pnb::LightSelection>(selection);
     r.aovs = s.aovs != 0;
     const int integrator = rawEnum(s.integrator);
     if (integrator != PNB_INTEGRATOR_WHITTED && integrator != PNB_INTEGRATOR_PATH)
@@ -155,7 +157,7 @@ pnb_render_settings out(const pnb::RenderSettings& s) {
     r.crop_y0 = s.crop ? s.crop->y0 : 0;
     r.crop_x1 = s.crop ? s.crop->x1 : 0;
     r.crop_y1 = s.crop ? s.crop->y1 : 0;
-    r.light_selection = s.lightSelection == pnb::LightSelection::Power ? PNB_LIGHTS_POWER : PNB_LIGHTS_ALL;
+    r.light_selection = static_cast<pnb_light_selection>(s.lightSelection);
     r.aovs = s.aovs ? 1 : 0;
     r.integrator = s.integrator == pnb::IntegratorKind::Path ? PNB_INTEGRATOR_PATH : PNB_INTEGRATOR_WHITTED;
     r.direct_light = static_cast<pnb_direct_light>(s.directLight);

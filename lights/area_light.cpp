@@ -336,6 +336,27 @@ bool ShapeAreaLight::mayReach(const Vec3f& p, const Vec3f& n) const {
 
 double ShapeAreaLight::power() const { return channelMean(Le_) * double(area_) * kPi * (twoSided_ ? 2.0 : 1.0); }
 
+std::optional<LightBounds> ShapeAreaLight::bounds() const {
+    // Flat emitters send light into the half space their normal faces (both,
+    // where two-sided); a sphere's surface faces every way.
+    LightBounds b;
+    b.twoSided = twoSided_;
+    switch (kind_) {
+        case Kind::Rectangle:
+            b.box = penumbra::bounds(scene_.rectangles[index_]);
+            b.axis = frame_.n;
+            b.cosThetaO = 1.f;
+            break;
+        case Kind::Disk:
+            b.box = penumbra::bounds(scene_.disks[index_]);
+            b.axis = frame_.n;
+            b.cosThetaO = 1.f;
+            break;
+        case Kind::Sphere: b.box = penumbra::bounds(scene_.spheres[index_]); break;
+    }
+    return b;
+}
+
 MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles) {
     Le_ = scene.materials[material].ke;
     twoSided_ = scene.materials[material].twoSidedEmission;
@@ -590,5 +611,27 @@ PENUMBRA_LANE_CLONES void MeshAreaLight::smallMeshSampleLanes(const LanePoints& 
 }
 
 double MeshAreaLight::power() const { return channelMean(Le_) * double(totalArea_) * kPi * (twoSided_ ? 2.0 : 1.0); }
+
+std::optional<LightBounds> MeshAreaLight::bounds() const {
+    // The cone about the triangles' mean normal through the farthest normal
+    // (every direction where the normals cancel out).
+    LightBounds b;
+    b.twoSided = twoSided_;
+    Vec3f sum;
+    for (const Triangle& t : triangles_) {
+        b.box.extend(t.p0);
+        b.box.extend(t.p0 + t.e1);
+        b.box.extend(t.p0 + t.e2);
+        sum += t.n;
+    }
+    const Vec3f axis = normalize(sum);
+    if (!(lengthSquared(axis) > 0.f)) return b;  // the default cone: every direction
+    b.axis = axis;
+    b.cosThetaO = 1.f;
+    for (const Triangle& t : triangles_) b.cosThetaO = std::min(b.cosThetaO, dot(b.axis, t.n));
+    // Rounding in the dot products must not leave a normal outside.
+    if (b.cosThetaO < 1.f) b.cosThetaO = std::max(-1.f, b.cosThetaO - 1e-5f);
+    return b;
+}
 
 }  // namespace penumbra

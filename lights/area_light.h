@@ -53,6 +53,7 @@ public:
     std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
     bool mayReach(const Vec3f& p, const Vec3f& n) const override;
     double power() const override;
+    std::optional<LightBounds> bounds() const override;
     float area() const { return area_; }
 
 private:
@@ -107,6 +108,7 @@ public:
     void sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                      LightLanes& out) const override;
     double power() const override;
+    std::optional<LightBounds> bounds() const override;
     float area() const { return totalArea_; }
     size_t triangleCount() const { return triangles_.size(); }
 

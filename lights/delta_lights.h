@@ -12,6 +12,12 @@ public:
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     float pdf(const Vec3f&, const Hit&) const override { return 0.f; }
     double power() const override { return channelMean(light_.intensity) * 4.0 * kPi; }
+    /// The point itself, shining every way.
+    std::optional<LightBounds> bounds() const override {
+        LightBounds b;
+        b.box.extend(light_.position);
+        return b;
+    }
     bool isDelta() const override { return true; }
 
 private:

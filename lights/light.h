@@ -9,6 +9,7 @@
 #include "core/color.h"
 #include "core/hit.h"
 #include "core/math.h"
+#include "lights/light_bounds.h"
 
 namespace penumbra {
 
@@ -81,6 +82,10 @@ public:
     /// radiance 3e38 would make the float total infinite, and every
     /// probability inf / inf).
     virtual double power() const = 0;
+    /// Where the light sends light (for the light hierarchy): a box holding
+    /// it and a cone holding its emission directions; nullopt for lights at
+    /// infinity (directional lights, the environment).
+    virtual std::optional<LightBounds> bounds() const { return std::nullopt; }
     virtual bool isDelta() const { return false; }
 };
 

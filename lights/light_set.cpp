@@ -43,6 +43,9 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
     std::vector<double> powers;
     for (const auto& l : lights_) powers.push_back(l->power());
     powerPicker_ = std::make_unique<PowerLightPicker>(powers);
+    std::vector<std::optional<LightBounds>> lightBounds;
+    for (const auto& l : lights_) lightBounds.push_back(l->bounds());
+    bvhPicker_ = std::make_unique<BVHLightPicker>(lightBounds, powers);
 }
 
 void LightSet::addMeshLights() {

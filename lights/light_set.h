@@ -11,6 +11,7 @@
 #include "core/rgb_image.h"
 #include "core/scene.h"
 #include "lights/light.h"
+#include "lights/bvh_light_picker.h"
 #include "lights/light_lanes.h"
 #include "lights/power_light_picker.h"
 #include "lights/spherical_cap.h"
@@ -33,6 +34,8 @@ public:
 
     /// Selection of lights in proportion to their power (Light::power).
     const PowerLightPicker& powerPicker() const { return *powerPicker_; }
+    /// Selection of lights by the light hierarchy (lights/bvh_light_picker.h).
+    const BVHLightPicker& bvhPicker() const { return *bvhPicker_; }
 
     /// Index of the area light the hit lies on (from its PrimRef and
     /// material); nullopt for surfaces that are no light. Which side was hit
@@ -119,6 +122,7 @@ private:
     std::vector<std::vector<std::pair<uint32_t, uint32_t>>> meshLights_;
     std::vector<BoundingSphere> bounds_;
     std::unique_ptr<PowerLightPicker> powerPicker_;
+    std::unique_ptr<BVHLightPicker> bvhPicker_;
     size_t areaLights_ = 0;
     float totalArea_ = 0.f;
     const EnvironmentLight* environment_ = nullptr;

@@ -81,9 +81,10 @@ CORNELL_REGIONS = {  # with CORNELL_CAMERA: patches of one surface each, clear o
 
 
 def many_lights(folder):
-    path = Path(folder) / "many_lights_source" / "many_lights.obj"
-    make_many_lights.write_obj(path)
-    return path
+    """make_many_lights.py --obj's scene (the one scripts/bench_many_lights.py measures), its OBJ."""
+    source = Path(folder) / "many_lights_source"
+    make_many_lights.obj_scene(source, 32, 32)
+    return source / "many_lights.obj"
 
 
 SCENES = [
@@ -93,7 +94,7 @@ SCENES = [
                bc.SHARED / "scenes/dragon_100k/dragon.obj", 256, 192, 64,
                {"eye": [12, 8, 18], "look_at": [0, 4.5, 0], "up": [0, 1, 0], "fov": 40}, {"rgb": [1, 1, 1]}),
     SuiteScene("many_lights", "floor and boxes under 1,024 small emitters (make_many_lights.py --obj)",
-               many_lights, 160, 120, 16, {"eye": [0, 4, 14], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov": 45}),
+               many_lights, 160, 120, 16, {"eye": [0, 5.5, 22], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 28}),
     SuiteScene("cornell_sphere", "McGuire CornellBox-Sphere, mirror and glass made Lambert",
                bc.SHARED / "scenes/cornell_mcguire/CornellBox-Sphere.obj", 256, 256, 64, CORNELL_CAMERA,
                regions={"left wall": (0.08, 0.30, 0.16, 0.60), "right wall": (0.84, 0.30, 0.92, 0.60),

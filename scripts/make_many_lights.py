@@ -1,33 +1,36 @@
 #!/usr/bin/env python3
-"""Writes the many-lights scenes.
+"""Many-light scenes.
 
-    scripts/make_many_lights.py [OUT.json]     assets/scenes/many_lights.json (the default): a floor
-                                               with a few objects under a 16 x 16 grid of small ceiling
-                                               lights of very different power (256 emitters), the scene
-                                               used to compare `--light-selection all` with `power`
-    scripts/make_many_lights.py --obj OUT.obj  OUT.obj and OUT.mtl beside it: a floor with boxes under a
-                                               32 x 32 grid of small emissive quads (1,024 emitters, each
-                                               its own object, so one light each) in 16 radiance levels
-                                               over three orders of magnitude, all Lambert, for renderers
-                                               that read OBJ (scripts/bench_cycles.py)
+  scripts/make_many_lights.py [OUT.json]
+      assets/scenes/many_lights.json: a floor with a few objects under a 16 x 16
+      grid of small ceiling lights (JSON rectangles) of very different power
+      (256 emitters), the scene used to compare `--light-selection all` with
+      `power` in docs/rendering.md.
+
+  scripts/make_many_lights.py --obj DIR [--grid K | --grid KxM]
+      DIR/many_lights.obj, .mtl and .json: the scene of the many-lights
+      benchmark (scripts/bench_many_lights.py): an OBJ floor with boxes under a
+      K x K (or K x M) grid (default 32: 1,024 lights) of small emissive quads
+      facing down over the same 32 x 32 area, each its own material, radiance
+      spread over three orders of magnitude; the JSON places the camera and
+      renders 160x120, 4 spp, with the path integrator. The same grid always
+      gives the same files. --merged writes the quads instead as one object of
+      one material of their mean radiance (one light of many triangles, as an
+      emissive mesh is), --uniform gives every quad that radiance: the pair
+      measures what lights of single primitives gain the light hierarchy.
 """
+import argparse
 import json
 import math
-import sys
 from pathlib import Path
 
 
-def radiance_level(i, j, levels=16):
-    """Which of the levels a grid cell gets: spread over the grid without a visible pattern."""
-    return (i * 7 + j * 13) % levels
-
-
-def json_scene():
+def json_scene(out):
     lights = []
     for i in range(16):
         for j in range(16):
             # Power varies over three orders of magnitude across the grid.
-            le = 0.5 * math.exp(radiance_level(i, j) / 15.0 * math.log(1000.0))
+            le = 0.5 * math.exp(((i * 7 + j * 13) % 16) / 15.0 * math.log(1000.0))
             lights.append({
                 "type": "rectangle",
                 "p0": [-8 + i, 6, -8 + j + 0.25],
@@ -36,7 +39,7 @@ def json_scene():
                 "radiance": round(le / 100.0, 4),
             })
     # cross(a, b) = (0.5,0,0) x (0,0,0.5) = (0, -0.25, 0): every light faces down.
-    return {
+    scene = {
         "camera": {"eye": [0, 4, 14], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov": 45},
         "render": {"width": 320, "height": 240, "spp": 4, "light_samples": 1, "seed": 1},
         "materials": {
@@ -51,81 +54,104 @@ def json_scene():
         ],
         "lights": lights,
     }
+    with open(out, "w") as f:
+        json.dump(scene, f, indent=1)
+        f.write("\n")
 
 
-# (min corner, max corner, material) of the OBJ scene's boxes.
-BOXES = [
-    ((1, 0, -1), (3, 2, 1), "blue"),
-    ((-3, 0, -1.5), (-1.5, 1.5, 0), "red"),
-    ((-0.5, 0, 2), (0.5, 3, 3), "white"),
-    ((3.5, 0, 3), (4.5, 1, 4), "white"),
-    ((-5, 0, -5), (-3, 4, -3), "blue"),
-]
-MATERIALS = {"floor": (0.7, 0.7, 0.7), "white": (0.75, 0.75, 0.75), "red": (0.7, 0.2, 0.1), "blue": (0.1, 0.3, 0.7)}
+def obj_scene(folder, kx, kz, merged=False, uniform=False):
+    """The kx x kz-light OBJ scene in folder (see the module's doc)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    half = 16.0  # the grid spans [-half, half] in x and z
+    sx, sz = 2 * half / kx, 2 * half / kz  # one light per cell, at its centre
+    v, faces, mtl = [], [], []
 
+    def quad(corners, material, name):
+        base = len(v) + 1
+        v.extend(corners)
+        faces.append(f"o {name}\nusemtl {material}\nf {base} {base + 1} {base + 2} {base + 3}")
 
-def box_faces(lo, hi):
-    """The six faces of an axis-aligned box as counter-clockwise quads seen from outside."""
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    return [
-        [(x0, y1, z0), (x0, y1, z1), (x1, y1, z1), (x1, y1, z0)],  # top, +y
-        [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)],  # front, +z
-        [(x1, y0, z0), (x0, y0, z0), (x0, y1, z0), (x1, y1, z0)],  # back, -z
-        [(x1, y0, z1), (x1, y0, z0), (x1, y1, z0), (x1, y1, z1)],  # +x
-        [(x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)],  # -x
-    ]
+    def box(lo, hi, material, name):
+        x0, y0, z0 = lo
+        x1, y1, z1 = hi
+        c = [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0),
+             (x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]
+        base = len(v) + 1
+        v.extend(c)
+        # Counter-clockwise seen from outside.
+        sides = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 4, 7, 3), (1, 2, 6, 5), (3, 7, 6, 2), (0, 1, 5, 4)]
+        faces.append(f"o {name}\nusemtl {material}\n" +
+                     "\n".join("f " + " ".join(str(base + i) for i in s) for s in sides))
 
-
-def write_obj(obj_path):
-    """The OBJ scene: a 20 x 20 floor, five boxes, and 1,024 quads of 0.2 x 0.2 at y = 5 facing
-    down, every 0.5 over [-8, 8) x [-8, 8), of radiance 0.01 to 10 (16 levels, each 1000^(1/15)
-    times the last)."""
-    obj_path = Path(obj_path)
-    mtl_path = obj_path.with_suffix(".mtl")
-    obj_path.parent.mkdir(parents=True, exist_ok=True)
-    out = [f"# {obj_path.name}: written by scripts/make_many_lights.py --obj", f"mtllib {mtl_path.name}"]
-    count = 0
-
-    def quad(corners):
-        nonlocal count
-        out.extend("v {:g} {:g} {:g}".format(*c) for c in corners)
-        count += 4
-        out.append(f"f {count - 3} {count - 2} {count - 1} {count}")
-
-    out += ["o floor", "usemtl floor"]
-    quad([(-10, 0, -10), (-10, 0, 10), (10, 0, 10), (10, 0, -10)])
-    for n, (lo, hi, material) in enumerate(BOXES):
-        out += [f"o box_{n}", f"usemtl {material}"]
-        for face in box_faces(lo, hi):
-            quad(face)
-    for i in range(32):
-        for j in range(32):
-            x, z = -8 + 0.5 * i + 0.15, -8 + 0.5 * j + 0.15
-            out += [f"o light_{i:02d}_{j:02d}", f"usemtl light_{radiance_level(i, j):02d}"]
-            # Counter-clockwise seen from below: the front, the emitting side, faces -y.
-            quad([(x, 5, z), (x + 0.2, 5, z), (x + 0.2, 5, z + 0.2), (x, 5, z + 0.2)])
-    obj_path.write_text("\n".join(out) + "\n")
-    mtl = []
-    for name, kd in MATERIALS.items():
-        mtl += [f"newmtl {name}", "Kd {:g} {:g} {:g}".format(*kd), "Ks 0 0 0", "illum 2", ""]
-    for level in range(16):
-        le = 0.01 * 1000.0 ** (level / 15.0)
-        mtl += [f"newmtl light_{level:02d}", "Kd 0 0 0", "Ks 0 0 0", f"Ke {le:.6g} {le:.6g} {le:.6g}", "illum 2", ""]
-    mtl_path.write_text("\n".join(mtl))
+    mtl.append("newmtl floor\nKd 0.7 0.7 0.7\n")
+    mtl.append("newmtl crate\nKd 0.6 0.45 0.3\n")
+    mtl.append("newmtl slate\nKd 0.25 0.3 0.4\n")
+    size = half + 4.0
+    quad([(-size, 0, size), (size, 0, size), (size, 0, -size), (-size, 0, -size)], "floor", "floor")
+    # Boxes of a few sizes on a loose grid (a fixed pattern, not random).
+    n = 0
+    for i in range(-2, 3):
+        for j in range(-2, 3):
+            if (i * 3 + j * 5) % 3 == 0:
+                continue
+            cx, cz = i * half / 2.6 + 0.7 * j, j * half / 2.6 - 0.4 * i
+            w = 0.6 + 0.25 * ((i * 7 + j * 11) % 4)
+            h = 0.8 + 0.6 * ((i * 5 + j * 3) % 5)
+            box((cx - w, 0, cz - w), (cx + w, h, cz + w), "crate" if (i + j) % 2 else "slate", f"box{n}")
+            n += 1
+    # The lights: 0.25 x 0.25 quads at y = 6, facing down, radiance 0.05 to 50.
+    radiance = {(i, j): 0.05 * 1000.0 ** (((i * 37 + j * 61 + (i * j) % 17) % 101) / 100.0)
+                for i in range(kx) for j in range(kz)}
+    mean = sum(radiance.values()) / len(radiance)
+    if merged:
+        mtl.append(f"newmtl lights\nKd 0 0 0\nKe {mean:.5g} {mean:.5g} {mean:.5g}\n")
+        faces.append("o lights\nusemtl lights")
+    for i in range(kx):
+        for j in range(kz):
+            le = mean if uniform else radiance[(i, j)]
+            name = f"light{i:02d}_{j:02d}"
+            x, z = -half + (i + 0.5) * sx - 0.125, -half + (j + 0.5) * sz - 0.125
+            corners = [(x, 6, z), (x + 0.25, 6, z), (x + 0.25, 6, z + 0.25), (x, 6, z + 0.25)]
+            if merged:
+                base = len(v) + 1
+                v.extend(corners)
+                faces.append(f"f {base} {base + 1} {base + 2} {base + 3}")
+                continue
+            mtl.append(f"newmtl {name}\nKd 0 0 0\nKe {le:.5g} {le:.5g} {le:.5g}\n")
+            quad(corners, name, name)
+    with open(folder / "many_lights.mtl", "w") as f:
+        f.write("# Written by scripts/make_many_lights.py --obj\n" + "\n".join(mtl))
+    with open(folder / "many_lights.obj", "w") as f:
+        f.write("# Written by scripts/make_many_lights.py --obj: a floor, boxes and "
+                f"{kx * kz} emissive quads facing down\nmtllib many_lights.mtl\n")
+        f.write("".join(f"v {x:g} {y:g} {z:g}\n" for x, y, z in v))
+        f.write("\n".join(faces) + "\n")
+    scene = {
+        # Looking down at the floor and boxes, the lights just out of view (the top
+        # row of pixels looks level, below them): pixels that see a small bright
+        # quad would add the same antialiasing noise to every light selection.
+        "camera": {"eye": [0, 5.5, half + 6], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 28},
+        "render": {"width": 160, "height": 120, "spp": 4, "seed": 1, "integrator": "path"},
+        "shapes": [{"type": "mesh", "file": "many_lights.obj"}],
+    }
+    with open(folder / "many_lights.json", "w") as f:
+        json.dump(scene, f, indent=1)
+        f.write("\n")
 
 
 def main():
-    args = sys.argv[1:]
-    if args[:1] == ["--obj"]:
-        if len(args) != 2:
-            sys.exit("usage: make_many_lights.py --obj OUT.obj")
-        write_obj(args[1])
-        return
-    out = args[0] if args else "assets/scenes/many_lights.json"
-    with open(out, "w") as f:
-        json.dump(json_scene(), f, indent=1)
-        f.write("\n")
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out", nargs="?", default="assets/scenes/many_lights.json", help="the JSON scene (without --obj)")
+    ap.add_argument("--obj", type=Path, help="write the OBJ scene into this folder instead")
+    ap.add_argument("--grid", default="32", help="the OBJ scene's lights: K (K x K, default 32) or KxM")
+    ap.add_argument("--merged", action="store_true", help="the OBJ scene's quads as one light of their mean radiance")
+    ap.add_argument("--uniform", action="store_true", help="every quad of the OBJ scene at the mean radiance")
+    a = ap.parse_args()
+    if a.obj:
+        kx, _, kz = a.grid.partition("x")
+        obj_scene(a.obj, int(kx), int(kz or kx), a.merged, a.uniform)
+    else:
+        json_scene(a.out)
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@
 #include "core/lane_clones.h"
 #include "core/scratch_array.h"
 #include "lights/environment_light.h"
+#include "lights/light_selection.h"
 #include "shading/bsdf/bsdf.h"
 #include "shading/light_windows.h"
 #include "shading/mis.h"
@@ -133,8 +134,7 @@ DirectLight::DirectLight(const Scene& scene, const Accelerator& accel, const Lig
                          const Options& options)
     : scene_(scene), accel_(accel), lights_(lights), lightSamples_(static_cast<uint32_t>(options.lightSamples)),
       bsdf_(options.areaSamples ? BsdfSamples::None : options.bsdf), areaSamples_(options.areaSamples),
-      // The one place that maps a light selection to its picker.
-      picker_(options.selection == LightSelection::Power ? &lights.powerPicker() : nullptr) {
+      picker_(lightPicker(lights, options.selection)) {
     for (size_t j = 0; j < lights.size(); ++j) sampledLights_ |= !lights[j].isDelta();
     findClearTargets(scene);
 }

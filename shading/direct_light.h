@@ -50,7 +50,7 @@ public:
     };
     struct Options {
         int lightSamples = 1;  ///< per light and point; in all per point where lights are picked
-        LightSelection selection = LightSelection::All;
+        LightSelection selection = LightSelection::All;  ///< resolved (resolvedLightSelection): not Auto
         BsdfSamples bsdf = BsdfSamples::Own;
         bool areaSamples = false;  ///< light samples uniform in area, without MIS: the comparison baseline
     };

@@ -5,6 +5,7 @@
 
 #include "core/lane_clones.h"
 #include "core/scratch_array.h"
+#include "lights/light_selection.h"
 #include "shading/bsdf/bsdf.h"
 
 namespace penumbra {
@@ -28,7 +29,7 @@ struct PathVertexLane {
 PathIntegrator::PathIntegrator(const IntegratorInputs& in)
     : Integrator(in.accel), lights_(in.lights), settings_(in.settings), surfaces_(in.scene, in.textures, in.pixelSpread),
       direct_(in.scene, in.accel, in.lights,
-              DirectLight::Options{in.settings.lightSamples, in.settings.lightSelection,
+              DirectLight::Options{in.settings.lightSamples, resolvedLightSelection(in.settings, in.lights.size()),
                                    DirectLight::BsdfSamples::Caller, false}) {}
 
 Rgb PathIntegrator::escaped(const PathVertexLane& lane) const {

@@ -7,6 +7,7 @@
 
 #include "core/lane_clones.h"
 #include "core/scratch_array.h"
+#include "lights/light_selection.h"
 #include "shading/bsdf/dielectric.h"
 #include "shading/bsdf/mirror.h"
 
@@ -16,7 +17,7 @@ WhittedIntegrator::WhittedIntegrator(const IntegratorInputs& in)
     : Integrator(in.accel), scene_(in.scene), settings_(in.settings),
       surfaces_(in.scene, in.textures, in.pixelSpread),
       direct_(in.scene, in.accel, in.lights,
-              DirectLight::Options{in.settings.lightSamples, in.settings.lightSelection,
+              DirectLight::Options{in.settings.lightSamples, resolvedLightSelection(in.settings, in.lights.size()),
                                    in.settings.directLight == DirectLightSampling::Mis ? DirectLight::BsdfSamples::Own
                                                                                        : DirectLight::BsdfSamples::None,
                                    in.internal.areaLightSamples}) {

@@ -100,7 +100,7 @@ Decision broadcastDecision(const Decision& fromRoot, int rank) {
             w.x1 = s.crop->x1;
             w.y1 = s.crop->y1;
         }
-        w.lightSelection = s.lightSelection == pnb::LightSelection::Power ? 1 : 0;
+        w.lightSelection = static_cast<std::int32_t>(s.lightSelection);
         w.aovs = s.aovs ? 1 : 0;
         w.integrator = s.integrator == pnb::IntegratorKind::Path ? 1 : 0;
         w.directLight = static_cast<std::int32_t>(s.directLight);
@@ -128,7 +128,7 @@ Decision broadcastDecision(const Decision& fromRoot, int rank) {
     s.threads = w.threads;
     s.tileSize = w.tileSize;
     if (w.hasCrop) s.crop = pnb::CropWindow{w.x0, w.y0, w.x1, w.y1};
-    s.lightSelection = w.lightSelection ? pnb::LightSelection::Power : pnb::LightSelection::All;
+    s.lightSelection = static_cast<pnb::LightSelection>(w.lightSelection);
     s.aovs = w.aovs != 0;
     s.integrator = w.integrator ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
     s.directLight = static_cast<pnb::DirectLightSampling>(w.directLight);

@@ -99,9 +99,14 @@ void addSamplingOptions(CLI::App& app, Options& o) {
         ->check(CLI::Validator([](std::string& v) { return seedProblem(v); }, "UINT64"));
     app.add_option("--threads", o.threads, "Render threads (0 = all cores; at most the cores there are)");
     app.add_option("--tile-size", o.tileSize, "Tile size in pixels");
-    app.add_option("--light-selection", o.lightSelection, "all (every light, N samples each) or power")
-        ->transform(oneOf<LightSelection>({{"all", LightSelection::All}, {"power", LightSelection::Power}},
-                                          expected("all or power")));
+    app.add_option("--light-selection", o.lightSelection,
+                   "auto (default: tree from 8 lights with path, from 256 with whitted, else all), all (every light, "
+                   "N samples each), power or tree (N samples in all, lights picked by power or by a light hierarchy)")
+        ->transform(oneOf<LightSelection>({{"auto", LightSelection::Auto},
+                                           {"all", LightSelection::All},
+                                           {"power", LightSelection::Power},
+                                           {"tree", LightSelection::Tree}},
+                                          expected("auto, all, power or tree")));
     app.add_option("--integrator", o.integrator, "whitted (default: direct light + mirrors + glass) or path (path tracing)")
         ->transform(oneOf<IntegratorKind>({{"whitted", IntegratorKind::Whitted}, {"path", IntegratorKind::Path}},
                                           expected("whitted or path")));

@@ -67,12 +67,16 @@ SettingsPatch SceneReader::readRender(const Json& j, const std::string& ptr) con
     if (const Json* v = find(j, "light_selection")) {
         std::string sp = child(ptr, "light_selection");
         std::string s = string(*v, sp);
-        if (s == "all")
+        if (s == "auto")
+            p.lightSelection = LightSelection::Auto;
+        else if (s == "all")
             p.lightSelection = LightSelection::All;
         else if (s == "power")
             p.lightSelection = LightSelection::Power;
+        else if (s == "tree")
+            p.lightSelection = LightSelection::Tree;
         else
-            fail(ErrorCode::InvalidScene, sp, "must be \"all\" or \"power\", got " + quotedValue(s));
+            fail(ErrorCode::InvalidScene, sp, "must be \"auto\", \"all\", \"power\" or \"tree\", got " + quotedValue(s));
     }
     if (const Json* v = find(j, "integrator")) {
         std::string sp = child(ptr, "integrator");

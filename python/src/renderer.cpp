@@ -288,7 +288,7 @@ void bindJob(py::module_& m) {
 const char* kSettingsDoc =
     "Settings are `settings` (a RenderSettings) or else the scene file's, changed by the keywords width, "
     "height, spp, light_samples, max_depth, seed, threads, tile_size, crop=(x0, y0, x1, y1), "
-    "light_selection ('all' or 'power'), aovs, integrator ('whitted' or 'path'). The camera is `camera`, else the scene's, else one framing the "
+    "light_selection ('auto', 'all', 'power' or 'tree'), aovs, integrator ('whitted' or 'path'). The camera is `camera`, else the scene's, else one framing the "
     "scene. `scene` is a PreparedScene (or a Scene, prepared for this call). `progress(fraction)` is called on "
     "this thread while the render runs; setting the `cancel` event (threading.Event) or Ctrl-C stops it.";
 

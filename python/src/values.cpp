@@ -71,14 +71,28 @@ std::optional<pnb::CropWindow> cropFrom(const py::handle& value) {
                            intSetting("crop y1", v[3])};
 }
 
+// The names of pnb::LightSelection's values, as the CLI spells them.
+constexpr std::pair<const char*, pnb::LightSelection> kSelectionNames[] = {
+    {"auto", pnb::LightSelection::Auto},
+    {"all", pnb::LightSelection::All},
+    {"power", pnb::LightSelection::Power},
+    {"tree", pnb::LightSelection::Tree},
+};
+
 pnb::LightSelection selectionFrom(const py::handle& value) {
     if (py::isinstance<py::str>(value)) {
         const std::string s = value.cast<std::string>();
-        if (s == "all") return pnb::LightSelection::All;
-        if (s == "power") return pnb::LightSelection::Power;
-        invalid("light_selection must be 'all' or 'power', got '" + s + "'");
+        for (const auto& [name, selection] : kSelectionNames)
+            if (s == name) return selection;
+        invalid("light_selection must be 'auto', 'all', 'power' or 'tree', got '" + s + "'");
     }
     return value.cast<pnb::LightSelection>();
+}
+
+const char* selectionName(pnb::LightSelection s) {
+    for (const auto& [name, selection] : kSelectionNames)
+        if (s == selection) return name;
+    return "auto";
 }
 
 pnb::IntegratorKind integratorFrom(const py::handle& value) {
@@ -114,7 +128,7 @@ std::string settingsRepr(const pnb::RenderSettings& s) {
     if (s.crop)
         r += ", crop=(" + std::to_string(s.crop->x0) + ", " + std::to_string(s.crop->y0) + ", " +
              std::to_string(s.crop->x1) + ", " + std::to_string(s.crop->y1) + ")";
-    r += std::string(", light_selection='") + (s.lightSelection == pnb::LightSelection::Power ? "power" : "all") + "'";
+    r += std::string(", light_selection='") + selectionName(s.lightSelection) + "'";
     r += std::string(", aovs=") + (s.aovs ? "True" : "False");
     r += std::string(", integrator='") + (s.integrator == pnb::IntegratorKind::Path ? "path" : "whitted") + "'";
     const char* direct[] = {"mis", "light"};
@@ -174,7 +188,9 @@ void bindValues(py::module_& m) {
         .value("Classic", pnb::PhongModel::Classic);
     py::enum_<pnb::LightSelection>(m, "LightSelection")
         .value("All", pnb::LightSelection::All)
-        .value("Power", pnb::LightSelection::Power);
+        .value("Power", pnb::LightSelection::Power)
+        .value("Tree", pnb::LightSelection::Tree)
+        .value("Auto", pnb::LightSelection::Auto);
     py::enum_<pnb::IntegratorKind>(m, "IntegratorKind")
         .value("Whitted", pnb::IntegratorKind::Whitted)
         .value("Path", pnb::IntegratorKind::Path);

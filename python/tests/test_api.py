@@ -62,6 +62,9 @@ def test_settings_and_camera_values():
     s = penumbra.RenderSettings(width=64, spp=3, light_selection="power", crop=(0, 0, 8, 8), seed=2**64 - 1)
     assert (s.width, s.height, s.spp, s.seed, s.crop) == (64, 512, 3, 2**64 - 1, (0, 0, 8, 8))
     assert s.light_selection == penumbra.LightSelection.Power
+    assert penumbra.RenderSettings().light_selection == penumbra.LightSelection.Auto
+    assert s.replace(light_selection="tree").light_selection == penumbra.LightSelection.Tree
+    assert "light_selection='tree'" in repr(s.replace(light_selection="tree"))
     assert s.direct_light == penumbra.DirectLightSampling.Mis
     assert s.replace(direct_light="light").direct_light == penumbra.DirectLightSampling.Light
     t = s.replace(height=10, crop=None)

@@ -197,6 +197,8 @@ TEST(CApi, BadSettingsAreRejectedBeforeAnyWork) {
     setRaw(s.light_selection, 7);
     EXPECT_EQ(pnb_render(f.renderer, f.prepared, &f.camera, &s, f.image, nullptr, nullptr), PNB_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(lastError().find("light_selection 7"), std::string::npos) << lastError();
+    pnb_render_settings_init(&s);
+    EXPECT_EQ(s.light_selection, PNB_LIGHTS_AUTO);
     s = f.settings;
     EXPECT_EQ(s.integrator, PNB_INTEGRATOR_WHITTED);
     setRaw(s.integrator, 9);

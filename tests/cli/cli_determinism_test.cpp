@@ -111,6 +111,8 @@ TEST(CliDeterminism, SameSeedSamePixelsAcrossThreadsAndRunsAllLights) { checkAcr
 
 TEST(CliDeterminism, SameSeedSamePixelsAcrossThreadsAndRunsPowerSelection) { checkAcrossThreadsAndRuns("power", false); }
 
+TEST(CliDeterminism, SameSeedSamePixelsAcrossThreadsAndRunsTreeSelection) { checkAcrossThreadsAndRuns("tree", false); }
+
 TEST(CliDeterminism, ObjSceneAcrossThreadCounts) {
     fs::path dir = test::tempDir();
     const fs::path scene = test::assetPath("cornell/cornell.obj");

@@ -164,6 +164,9 @@ TEST(SceneFile, RenderTileSize) { EXPECT_EQ(loadText(R"({"render": {"tile_size":
 TEST(SceneFile, RenderLightSelection) {
     EXPECT_EQ(loadText(R"({"render": {"light_selection": "all"}})").settings.lightSelection, LightSelection::All);
     EXPECT_EQ(loadText(R"({"render": {"light_selection": "power"}})").settings.lightSelection, LightSelection::Power);
+    EXPECT_EQ(loadText(R"({"render": {"light_selection": "tree"}})").settings.lightSelection, LightSelection::Tree);
+    EXPECT_EQ(loadText(R"({"render": {"light_selection": "auto"}})").settings.lightSelection, LightSelection::Auto);
+    EXPECT_FALSE(loadText(R"({"render": {}})").settings.lightSelection) << "unset: the renderer's default (auto)";
 }
 
 TEST(SceneFile, RenderIntegralFloatAccepted) {
@@ -751,7 +754,7 @@ TEST(SceneFileErrors, RenderOutOfRange) {
     expectError(R"({"render": {"max_depth": -1}})", ErrorCode::InvalidScene, {"/render/max_depth"});
     expectError(R"({"render": {"seed": -1}})", ErrorCode::InvalidScene, {"/render/seed"});
     expectError(R"({"render": {"light_selection": "random"}})", ErrorCode::InvalidScene,
-                {"/render/light_selection", "\"all\" or \"power\""});
+                {"/render/light_selection", "\"auto\", \"all\", \"power\" or \"tree\""});
     expectError(R"({"render": {"integrator": "bdpt"}})", ErrorCode::InvalidScene,
                 {"/render/integrator", "\"whitted\" or \"path\""});
     expectError(R"({"materials": {"g": {"kt": 1, "ior": 0}}})", ErrorCode::InvalidScene, {"/materials/g/ior", "> 0"});

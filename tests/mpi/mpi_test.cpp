@@ -228,7 +228,7 @@ TEST(MpiRender, UsageErrorIsReportedOnce) {
                                           (dir / "x.exr").string() + " --light-selection some"));
     EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_EQ(countOf(r.output, "error:"), 1u) << r.output;
-    EXPECT_NE(r.output.find("penumbra-mpi: error: --light-selection: expected all or power, got 'some' (see --help)"),
+    EXPECT_NE(r.output.find("penumbra-mpi: error: --light-selection: expected auto, all, power or tree, got 'some' (see --help)"),
               std::string::npos)
         << r.output;
 }

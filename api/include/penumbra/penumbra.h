@@ -121,7 +121,13 @@ typedef struct pnb_camera {
     float focus_distance; /* 0 = distance from eye to look_at */
 } pnb_camera;
 
-typedef enum pnb_light_selection { PNB_LIGHTS_ALL = 0, PNB_LIGHTS_POWER = 1 } pnb_light_selection;
+/* How light samples choose their lights (docs/rendering.md, "Many lights"); PNB_LIGHTS_AUTO is the default. */
+typedef enum pnb_light_selection {
+    PNB_LIGHTS_ALL = 0,
+    PNB_LIGHTS_POWER = 1,
+    PNB_LIGHTS_TREE = 2,
+    PNB_LIGHTS_AUTO = 3
+} pnb_light_selection;
 /* Area-light estimator (docs/rendering.md): light + BRDF samples with MIS (default), or light samples only. */
 typedef enum pnb_direct_light { PNB_DIRECT_LIGHT_MIS = 0, PNB_DIRECT_LIGHT_LIGHT = 1 } pnb_direct_light;
 

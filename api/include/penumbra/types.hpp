@@ -132,9 +132,12 @@ enum class IntegratorKind {
     Path,     ///< path tracing: indirect light, next-event estimation with MIS, Russian roulette
 };
 
+/// How a shading point's light samples choose their lights (docs/rendering.md, "Many lights").
 enum class LightSelection {
     All,    ///< every light gets lightSamples samples at every shading point
     Power,  ///< lightSamples samples in total, lights picked in proportion to power
+    Tree,   ///< lightSamples samples in total, lights picked by a light hierarchy at each point
+    Auto,   ///< Tree for scenes of many lights (path: 8 or more, whitted: 256 or more), else All (the default)
 };
 
 /// How the Whitted integrator estimates the direct light of area lights
@@ -156,7 +159,7 @@ struct RenderSettings {
     int threads = 0;        ///< 0 = all cores; more run as all cores (RenderStats::threads); a TBB arena per render
     int tileSize = 16;
     std::optional<CropWindow> crop;
-    LightSelection lightSelection = LightSelection::All;
+    LightSelection lightSelection = LightSelection::Auto;
     /// Also accumulate albedo, normal and depth of the first hit. Off unless
     /// asked for (the CLI's --aovs, docs/embedding.md): it costs memory.
     bool aovs = false;

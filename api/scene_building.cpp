@@ -129,6 +129,8 @@ MaterialId Scene::addMaterial(const Material& m) {
         if (auto problem = pn::materialProblem(m)) fail(ErrorCode::InvalidArgument, what + ": " + *problem);
         require(s.materials.size() < std::numeric_limits<MaterialId>::max(), "too many materials");
         pn::Material pm{m};
+        // Until the renderer shades metal-roughness, its Phong terms approximate it (as loaders do).
+        if (pm.kind == MaterialKind::MetalRoughness) pn::approximateWithPhong(pm);
         // Named in code: opened by name, once, when the scene is prepared.
         pn::bindTextures(pm, [&](std::string& path, pn::TextureColorSpace space) {
             return s.addTexture(pn::TextureSource{path, space});

@@ -13,19 +13,15 @@
 #define TINYGLTF_IMPLEMENTATION
 #include "core/io/gltf_model.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
-#include <cstring>
 #include <limits>
 #include <map>
-#include <utility>
 #include <memory>
 #include <new>
 #include <optional>
 #include <set>
+#include <utility>
 
 #include "core/error.h"
 
@@ -186,8 +182,8 @@ bool keepImage(tinygltf::Image* image, int index, std::string* err, std::string*
         out = TextureSource{r.imageFile->path().string(), TextureColorSpace::FromFile, r.imageFile->fd(), r.imageFile, nullptr};
         r.imageFile.reset();
     } else if (size > 0) {
-        // Inside the file (a buffer view, a data: URI) or a file without an image's name: the bytes.
-        out.name = r.file.string() + "#image" + std::to_string(index) + ext;
+        // Inside the file (a buffer view, a data: URI), or a file without an image's name, read whole: the bytes.
+        out.name = image->uri.empty() ? r.file.string() + "#image" + std::to_string(index) + ext : r.dirPrefix + image->uri;
         out.bytes = std::make_shared<const std::vector<unsigned char>>(bytes, bytes + size);
     }
     return true;

@@ -21,13 +21,13 @@ bool isGltfExtension(const std::string& extension);
 /// Appends the model's meshes (placed by worldFromObject) and materials to
 /// `scene`; its camera and lights go to `extras`. Throws Error naming the file
 /// when it cannot be read (readGltfFile), when its nodes would place more than
-/// kMaxGltfTriangles triangles; warns for what is skipped.
+/// kMaxGltfElements vertices and triangles; warns for what is skipped.
 ObjStats appendGltf(Scene& scene, const InputFile& model, const Transform& worldFromObject, const LoadOptions& options,
                     const Logger& log, ModelExtras& extras);
 
-/// The most triangles the nodes of one glTF file may place (a mesh counts
-/// once per node that draws it), checked before any is made: 2^28, about
-/// 20 GiB of meshes.
-inline constexpr size_t kMaxGltfTriangles = size_t(1) << 28;
+/// The most vertices and triangles together that the nodes of one glTF file
+/// may place (a mesh counts once per node that draws it), checked before any
+/// is made: 2^28, some 10 GiB of meshes.
+inline constexpr size_t kMaxGltfElements = size_t(1) << 28;
 
 }  // namespace penumbra

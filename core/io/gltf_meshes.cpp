@@ -31,10 +31,11 @@ std::vector<uint32_t> triangles(const std::vector<uint32_t>& v, int mode) {
 
 }  // namespace
 
-size_t gltfTriangleCount(const GltfAccessors& accessors, const tinygltf::Primitive& p, const std::string& where) {
+size_t gltfPrimitiveSize(const GltfAccessors& accessors, const tinygltf::Primitive& p, const std::string& where) {
     const int position = attribute(p, "POSITION");
     if (!drawsTriangles(p) || position < 0) return 0;
-    return (p.indices >= 0 ? accessors.count(p.indices, where + " indices") : accessors.count(position, where + " POSITION")) / 3 + 1;
+    const size_t vertices = accessors.count(position, where + " POSITION");
+    return vertices + (p.indices >= 0 ? accessors.count(p.indices, where + " indices") : vertices) / 3 + 1;
 }
 
 GltfPrimitive readGltfPrimitive(const GltfAccessors& accessors, const tinygltf::Primitive& p,

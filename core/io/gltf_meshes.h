@@ -20,8 +20,9 @@ struct GltfPrimitive {
     size_t droppedFaces = 0;    // on missing vertices or non-finite positions
 };
 
-/// The triangles primitive `p` would add: its index (or vertex) count over three, for budgets.
-size_t gltfTriangleCount(const GltfAccessors& accessors, const tinygltf::Primitive& p, const std::string& where);
+/// The elements primitive `p` would add, for budgets: its vertices plus its
+/// triangles (its index count, or vertex count, over three).
+size_t gltfPrimitiveSize(const GltfAccessors& accessors, const tinygltf::Primitive& p, const std::string& where);
 
 /// Reads primitive `p` placed by worldFromObject (a mirroring transform
 /// keeps the front side the front side, and flips the tangents' handedness).

@@ -1,13 +1,15 @@
 // glTF files rendered through the public API: emissive strength reaches the
 // image through the emission path (ratios 1:2:4:8:16), and the automatic
-// camera sees a plane lying flat (TwoSidedPlane) instead of its edge. The
-// shared Khronos models are skipped cleanly when ../shared is absent.
+// camera sees a plane lying flat (TwoSidedPlane) instead of its edge; and
+// metal-roughness materials built in code. The shared Khronos models are
+// skipped cleanly when ../shared is absent.
 #include <gtest/gtest.h>
 
 #include <penumbra/penumbra.hpp>
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "support/gltf_builder.h"
 #include "support/test_support.h"
@@ -106,6 +108,48 @@ TEST(GltfRender, SharedTwoSidedPlaneIsNotSeenEdgeOn) {
     s.setDefaultLight(false);
     s.addDirectionalLight({0.2f, -1.f, -0.3f}, pnb::gray(3.f));
     EXPECT_GT(coverage(r, s), 0.2) << "the plane is seen edge-on";
+}
+
+// A metal-roughness material built in code is checked, and renders through
+// the Phong approximation until the renderer shades the model itself.
+TEST(ApiMaterials, MetalRoughnessMaterialsAreCheckedAndApproximated) {
+    std::vector<std::string> warnings;
+    const pnb::Renderer r([&](pnb::LogLevel level, std::string_view m) {
+        if (level == pnb::LogLevel::Warning) warnings.emplace_back(m);
+    });
+    pnb::Scene s;
+    pnb::Material red;
+    red.kind = pnb::MaterialKind::MetalRoughness;
+    red.baseColor = {1.f, 0.f, 0.f};
+    red.metallic = 0.f;
+    red.kd = pnb::gray(1.f);  // a Phong term: replaced by the approximation
+    red.emissiveTexture.path = "/nonexistent/glow.png";
+    s.addRectangle({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, s.addMaterial(red));
+    pnb::Camera cam;
+    cam.eye = {0, 0, 3};
+    cam.lookAt = {0, 0, 0};
+    pnb::RenderSettings st;
+    st.width = st.height = 8;
+    st.spp = 1;
+    const pnb::Color c = r.render(r.prepare(s), cam, st).pixel(4, 4);
+    EXPECT_GT(c.r, 0.1f);
+    // kd is the base colour's non-metal part (red), not the Phong kd given; green is F0's 4% highlight.
+    EXPECT_LT(c.g, 0.1f * c.r);
+    ASSERT_FALSE(warnings.empty());
+    EXPECT_NE(warnings.back().find("/nonexistent/glow.png: cannot read texture"), std::string::npos) << warnings.back();
+
+    pnb::Material bad = red;
+    bad.metallic = 2.f;
+    try {
+        s.addMaterial(bad);
+        ADD_FAILURE() << "metallic 2 was accepted";
+    } catch (const pnb::Error& e) {
+        EXPECT_EQ(e.code(), pnb::ErrorCode::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find("metallic must lie in [0, 1]"), std::string::npos) << e.what();
+    }
+    bad = red;
+    bad.baseColorTexture.uvSet = 2;
+    EXPECT_THROW(s.addMaterial(bad), pnb::Error);
 }
 
 }  // namespace

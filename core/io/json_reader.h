@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,7 +43,7 @@ private:
     const Json& require(const Json& obj, const std::string& ptr, const char* key, const char* what) const;
     /// Rejects keys outside `allowed`, listing the accepted ones.
     void checkKeys(const Json& obj, const std::string& ptr, Keys allowed) const;
-    void checkKeys(const Json& obj, const std::string& ptr, const std::vector<std::string_view>& allowed) const;
+    void checkKeys(const Json& obj, const std::string& ptr, std::span<const std::string_view> allowed) const;
     void expectObject(const Json& j, const std::string& ptr) const;
     /// A finite number (finite also after narrowing to float).
     float number(const Json& j, const std::string& ptr) const;

@@ -30,10 +30,11 @@ PNB_SAME_VALUE(PNB_INTEGRATOR_WHITTED, pnb::IntegratorKind::Whitted);
 PNB_SAME_VALUE(PNB_INTEGRATOR_PATH, pnb::IntegratorKind::Path);
 PNB_SAME_VALUE(PNB_DIRECT_LIGHT_MIS, pnb::DirectLightSampling::Mis);
 PNB_SAME_VALUE(PNB_DIRECT_LIGHT_LIGHT, pnb::DirectLightSampling::Light);
-PNB_SAME_VALUE(PNB_DIRECT_LIGHT_AREA, pnb::DirectLightSampling::Area);
 PNB_SAME_VALUE(PNB_BUILD_LOW, pnb::BuildQuality::Low);
 PNB_SAME_VALUE(PNB_BUILD_MEDIUM, pnb::BuildQuality::Medium);
 PNB_SAME_VALUE(PNB_BUILD_HIGH, pnb::BuildQuality::High);
+PNB_SAME_VALUE(PNB_ACCEL_EMBREE, pnb::AcceleratorKind::Embree);
+PNB_SAME_VALUE(PNB_ACCEL_NAIVE, pnb::AcceleratorKind::Naive);
 #undef PNB_SAME_VALUE
 
 // Structs of the same layout: the conversions are member-wise copies.
@@ -133,7 +134,7 @@ pnb::RenderSettings in(const pnb_render_settings& s) {
                          "integrator " + std::to_string(integrator) + " is not a pnb_integrator");
     r.integrator = integrator == PNB_INTEGRATOR_PATH ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
     const int direct = rawEnum(s.direct_light);
-    if (direct < PNB_DIRECT_LIGHT_MIS || direct > PNB_DIRECT_LIGHT_AREA)
+    if (direct != PNB_DIRECT_LIGHT_MIS && direct != PNB_DIRECT_LIGHT_LIGHT)
         throw pnb::Error(pnb::ErrorCode::InvalidArgument,
                          "direct_light " + std::to_string(direct) + " is not a pnb_direct_light");
     r.directLight = static_cast<pnb::DirectLightSampling>(direct);
@@ -222,7 +223,7 @@ void pnb_load_options_init(pnb_load_options* o) {
 }
 
 void pnb_prepare_options_init(pnb_prepare_options* o) {
-    if (o) *o = pnb_prepare_options{"embree", PNB_BUILD_HIGH};
+    if (o) *o = pnb_prepare_options{PNB_ACCEL_EMBREE, PNB_BUILD_HIGH};
 }
 
 void pnb_image_options_init(pnb_image_options* o) {

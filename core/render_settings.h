@@ -18,6 +18,14 @@ using IntegratorKind = pnb::IntegratorKind;
 using DirectLightSampling = pnb::DirectLightSampling;
 using RenderSettings = pnb::RenderSettings;
 
+/// Settings that no public API offers: the comparison baselines of the
+/// benchmark tools (penumbra-estimators, scripts/bench_noise.py).
+struct InternalSettings {
+    /// Light samples uniform in area, without MIS: the direct-light estimator
+    /// before solid-angle sampling (docs/rendering.md).
+    bool areaLightSamples = false;
+};
+
 /// Throws Error(InvalidArgument) naming the offending setting.
 void validateSettings(const RenderSettings& s);
 

@@ -334,7 +334,7 @@ bool ShapeAreaLight::mayReach(const Vec3f& p, const Vec3f& n) const {
     return true;
 }
 
-Rgb ShapeAreaLight::power() const { return Le_ * (area_ * kPi * (twoSided_ ? 2.f : 1.f)); }
+double ShapeAreaLight::power() const { return channelMean(Le_) * double(area_) * kPi * (twoSided_ ? 2.0 : 1.0); }
 
 MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles) {
     Le_ = scene.materials[material].ke;
@@ -589,6 +589,6 @@ PENUMBRA_LANE_CLONES void MeshAreaLight::smallMeshSampleLanes(const LanePoints& 
         if (near[l]) out.set(l, sample(at.p(l), Vec2f{ux[l], uy[l]}));
 }
 
-Rgb MeshAreaLight::power() const { return Le_ * (totalArea_ * kPi * (twoSided_ ? 2.f : 1.f)); }
+double MeshAreaLight::power() const { return channelMean(Le_) * double(totalArea_) * kPi * (twoSided_ ? 2.0 : 1.0); }
 
 }  // namespace penumbra

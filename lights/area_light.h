@@ -26,11 +26,8 @@ inline constexpr float kSphericalMinSolidAngle = 1e-3f;
 /// Rectangles and mesh lights whose bounding sphere subtends less than this
 /// (steradians) at the shading point are sampled by area: seen that small,
 /// 1/d^2 and cos(theta') hardly vary over them, so the spherical sampling's
-/// trigonometry (a few hundred ns a sample) buys little. Measured with
-/// scripts/bench_noise.py on CornellBox-Sphere (a 2-triangle ceiling lamp,
-/// 4 x 4 samples): spherical triangles everywhere cut the relative MSE by
-/// 17% against area samples from the same stratified sequence, at 2.3 times
-/// the render time.
+/// trigonometry (a few hundred ns a sample) buys little (docs/rendering.md,
+/// "Light sampling", has the noise and time measured).
 inline constexpr float kSolidAngleSamplingMinBound = 0.5f;
 
 /// Shared estimator step: turns a point sampled on an emitter (with its normal
@@ -55,7 +52,7 @@ public:
     float pdf(const Vec3f& p, const Hit& onLight) const override;
     std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
     bool mayReach(const Vec3f& p, const Vec3f& n) const override;
-    Rgb power() const override;
+    double power() const override;
     float area() const { return area_; }
 
 private:
@@ -109,7 +106,7 @@ public:
     void mayReachLanes(const LanePoints& at, int n, int32_t* reach) const override;
     void sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                      LightLanes& out) const override;
-    Rgb power() const override;
+    double power() const override;
     float area() const { return totalArea_; }
     size_t triangleCount() const { return triangles_.size(); }
 

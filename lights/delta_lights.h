@@ -11,7 +11,7 @@ public:
     explicit PointLightSource(const PointLight& l) : light_(l) {}
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     float pdf(const Vec3f&, const Hit&) const override { return 0.f; }
-    Rgb power() const override { return light_.intensity * (4.f * kPi); }
+    double power() const override { return channelMean(light_.intensity) * 4.0 * kPi; }
     bool isDelta() const override { return true; }
 
 private:
@@ -24,7 +24,7 @@ public:
     DirectionalLightSource(const DirectionalLight& l, float sceneRadius);
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     float pdf(const Vec3f&, const Hit&) const override { return 0.f; }
-    Rgb power() const override { return light_.irradiance * (kPi * radius_ * radius_); }
+    double power() const override { return channelMean(light_.irradiance) * kPi * double(radius_) * double(radius_); }
     bool isDelta() const override { return true; }
 
 private:

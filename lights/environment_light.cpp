@@ -16,7 +16,7 @@ Rgb cleaned(Rgb c) {
 }  // namespace
 
 EnvironmentLight::EnvironmentLight(Rgb radiance, float sceneRadius) : constant_(cleaned(radiance)), mean_(constant_) {
-    power_ = mean_ * (kPi * kPi * sceneRadius * sceneRadius);
+    power_ = channelMean(mean_) * kPi * kPi * double(sceneRadius) * double(sceneRadius);
 }
 
 EnvironmentLight::EnvironmentLight(RgbImage image, float scale, float rotateDegrees, float sceneRadius)
@@ -45,7 +45,7 @@ EnvironmentLight::EnvironmentLight(RgbImage image, float scale, float rotateDegr
     }
     distribution_ = std::make_unique<Distribution2D>(f, w, h);
     mean_ = weight > 0.0 ? Rgb{float(sum[0] / weight), float(sum[1] / weight), float(sum[2] / weight)} * scale_ : Rgb{};
-    power_ = mean_ * (kPi * kPi * sceneRadius * sceneRadius);
+    power_ = channelMean(mean_) * kPi * kPi * double(sceneRadius) * double(sceneRadius);
 }
 
 Vec3f EnvironmentLight::toWorld(const Vec3f& l) const {

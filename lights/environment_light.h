@@ -51,7 +51,7 @@ public:
     /// power of a directional light that gives a surface facing it the
     /// irradiance pi * L the environment gives an unoccluded surface, matching
     /// DirectionalLightSource's pi R^2 E.
-    Rgb power() const override { return power_; }
+    double power() const override { return power_; }
 
     /// Mean radiance over the sphere (solid-angle weighted).
     Rgb meanRadiance() const { return mean_; }
@@ -68,7 +68,7 @@ private:
     float cosRot_ = 1.f, sinRot_ = 0.f;
     std::unique_ptr<Distribution2D> distribution_;  // images only
     Rgb mean_;
-    Rgb power_;
+    double power_ = 0.0;
 };
 
 }  // namespace penumbra

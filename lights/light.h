@@ -13,6 +13,9 @@
 namespace penumbra {
 
 struct LanePoints;  // lights/light_lanes.h
+
+/// The mean of a colour's channels, in double precision (Light::power).
+inline double channelMean(const Rgb& c) { return (double(c.r) + double(c.g) + double(c.b)) / 3.0; }
 struct LightLanes;
 
 /// One light sample as seen from a shading point.
@@ -59,7 +62,7 @@ public:
     /// default calls sampleMany). Not for delta lights.
     virtual void sampleManyLanes(const Vec3f& p, const float* ux, const float* uy, int n, LightLanes& out) const;
     /// The estimator before solid-angle sampling: points uniform in area
-    /// (--direct-light area, for comparisons). Same as sample() unless overridden.
+    /// (InternalSettings::areaLightSamples, for comparisons). Same as sample() unless overridden.
     virtual std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const { return sample(p, u); }
     /// False only where no sample from p can count: where every point of the
     /// light lies on or below the plane through p with normal n (the
@@ -72,8 +75,12 @@ public:
         (void)n;
         return true;
     }
-    /// Total emitted power (for power-proportional light selection).
-    virtual Rgb power() const = 0;
+    /// Total emitted power, the mean of its colour channels, for
+    /// power-proportional light selection. In double precision: a light of
+    /// finite radiance can emit more than the largest float (two spheres of
+    /// radiance 3e38 would make the float total infinite, and every
+    /// probability inf / inf).
+    virtual double power() const = 0;
     virtual bool isDelta() const { return false; }
 };
 

@@ -11,52 +11,63 @@
 
 namespace penumbra {
 
+namespace {
+
+// One area light per emissive shape of one kind, in the shapes' order;
+// index[i]: the light of shape i (-1: it emits nothing).
+template <class Shape>
+void addShapeLights(const Scene& scene, const std::vector<Shape>& shapes, ShapeAreaLight::Kind kind,
+                    std::vector<std::unique_ptr<Light>>& lights, std::vector<int32_t>& index, float& totalArea) {
+    index.assign(shapes.size(), -1);
+    for (uint32_t i = 0; i < shapes.size(); ++i) {
+        if (!scene.materials[shapes[i].material].isEmissive()) continue;
+        index[i] = int32_t(lights.size());
+        auto l = std::make_unique<ShapeAreaLight>(scene, kind, i);
+        totalArea += l->area();
+        lights.push_back(std::move(l));
+    }
+}
+
+}  // namespace
+
 LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene) {
-    const auto emissive = [&](uint32_t mat) { return scene.materials[mat].isEmissive(); };
-    rectangleLight_.assign(scene.rectangles.size(), -1);
-    diskLight_.assign(scene.disks.size(), -1);
-    sphereLight_.assign(scene.spheres.size(), -1);
-    meshLights_.resize(scene.meshes.size());
-    for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
-        if (emissive(scene.rectangles[i].material)) {
-            rectangleLight_[i] = int32_t(lights_.size());
-            auto l = std::make_unique<ShapeAreaLight>(scene, ShapeAreaLight::Kind::Rectangle, i);
-            totalArea_ += l->area();
-            lights_.push_back(std::move(l));
-        }
-    for (uint32_t i = 0; i < scene.disks.size(); ++i)
-        if (emissive(scene.disks[i].material)) {
-            diskLight_[i] = int32_t(lights_.size());
-            auto l = std::make_unique<ShapeAreaLight>(scene, ShapeAreaLight::Kind::Disk, i);
-            totalArea_ += l->area();
-            lights_.push_back(std::move(l));
-        }
-    for (uint32_t i = 0; i < scene.spheres.size(); ++i)
-        if (emissive(scene.spheres[i].material)) {
-            sphereLight_[i] = int32_t(lights_.size());
-            auto l = std::make_unique<ShapeAreaLight>(scene, ShapeAreaLight::Kind::Sphere, i);
-            totalArea_ += l->area();
-            lights_.push_back(std::move(l));
-        }
-    for (uint32_t m = 0; m < scene.meshes.size(); ++m) {
-        const TriangleMesh& mesh = scene.meshes[m];
+    // Area lights first (rectangles, disks, spheres, then each mesh's emissive
+    // materials), then point, directional and environment lights.
+    addShapeLights(scene, scene.rectangles, ShapeAreaLight::Kind::Rectangle, lights_, rectangleLight_, totalArea_);
+    addShapeLights(scene, scene.disks, ShapeAreaLight::Kind::Disk, lights_, diskLight_, totalArea_);
+    addShapeLights(scene, scene.spheres, ShapeAreaLight::Kind::Sphere, lights_, sphereLight_, totalArea_);
+    addMeshLights();
+    areaLights_ = lights_.size();
+    addEmitterBounds();
+    addDeltaAndEnvironmentLights(std::move(environmentImage));
+    std::vector<double> powers;
+    for (const auto& l : lights_) powers.push_back(l->power());
+    powerPicker_ = std::make_unique<PowerLightPicker>(powers);
+}
+
+void LightSet::addMeshLights() {
+    meshLights_.resize(scene_.meshes.size());
+    for (uint32_t m = 0; m < scene_.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene_.meshes[m];
         std::map<uint32_t, std::vector<uint32_t>> byMaterial;  // ordered: deterministic light order
         for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
             uint32_t mat = mesh.materialOf(t);
-            if (!emissive(mat)) continue;
+            if (!scene_.materials[mat].isEmissive()) continue;
             Vec3f p0, p1, p2;
             mesh.vertices(t, p0, p1, p2);
             if (triangleArea(p0, p1, p2) > 0.f) byMaterial[mat].push_back(t);
         }
         for (auto& [mat, tris] : byMaterial) {
-            auto l = std::make_unique<MeshAreaLight>(scene, m, mat, std::move(tris));
+            auto l = std::make_unique<MeshAreaLight>(scene_, m, mat, std::move(tris));
             if (!(l->area() > 0.f)) continue;
             meshLights_[m].emplace_back(mat, uint32_t(lights_.size()));
             totalArea_ += l->area();
             lights_.push_back(std::move(l));
         }
     }
-    areaLights_ = lights_.size();
+}
+
+void LightSet::addEmitterBounds() {
     // Bounding spheres of the area lights, in the order they were added, and
     // each light's primitives (for firstEmitterHit): a mesh light is every
     // triangle of its material, as lightOf() counts them (degenerate ones
@@ -69,6 +80,7 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
     const auto addBounded = [&](const Bounds3f& b, PrimRef prim) {
         addLight(b.center(), 0.25f * lengthSquared(b.diagonal()), {prim});
     };
+    const Scene& scene = scene_;
     for (uint32_t i = 0; i < scene.rectangles.size(); ++i)
         if (rectangleLight_[i] >= 0)
             addBounded(penumbra::bounds(scene.rectangles[i]), PrimRef{ShapeKind::Rectangle, i, 0, 0});
@@ -79,7 +91,8 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
             addLight(scene.spheres[i].center, scene.spheres[i].radius * scene.spheres[i].radius,
                      {PrimRef{ShapeKind::Sphere, i, 0, 0}});
     for (uint32_t m = 0; m < scene.meshes.size(); ++m)
-        for (const auto& [mat, light] : meshLights_[m]) {
+        for (const auto& entry : meshLights_[m]) {
+            const uint32_t mat = entry.first;
             Bounds3f b;
             const TriangleMesh& mesh = scene.meshes[m];
             const uint32_t first = uint32_t(emitterPrims_.size());
@@ -94,50 +107,31 @@ LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene
                 }
             bounds_.push_back({b.center(), 0.25f * lengthSquared(b.diagonal())});
             emitters_.push_back({first, uint32_t(emitterPrims_.size()) - first});
-            (void)light;
         }
+}
 
+void LightSet::addDeltaAndEnvironmentLights(RgbImage environmentImage) {
+    const Scene& scene = scene_;
     const Bounds3f b = scene.bounds();
     const float radius = b.empty() ? 1.f : 0.5f * length(b.diagonal());
     bounds_.resize(lights_.size() + scene.pointLights.size() + scene.directionalLights.size());
     for (const auto& p : scene.pointLights) lights_.push_back(std::make_unique<PointLightSource>(p));
     for (const auto& d : scene.directionalLights) lights_.push_back(std::make_unique<DirectionalLightSource>(d, radius));
-    if (scene.environment) {
-        const EnvironmentDesc& e = *scene.environment;
-        std::unique_ptr<EnvironmentLight> env;
-        if (e.image.empty()) {
-            env = std::make_unique<EnvironmentLight>(e.color * e.scale, radius);
-        } else {
-            if (environmentImage.pixels.empty())
-                throw Error(ErrorCode::InvalidArgument, e.image + ": environment image was not decoded");
-            env = std::make_unique<EnvironmentLight>(std::move(environmentImage), e.scale, e.rotateDegrees, radius);
-        }
-        environment_ = env.get();
-        lights_.push_back(std::move(env));
-    }
-
-    double acc = 0.0;
-    for (const auto& l : lights_) {
-        acc += std::max(0.f, l->power().average());
-        powerCdf_.push_back(static_cast<float>(acc));
-    }
-    if (acc > 0.0) {
-        for (float& c : powerCdf_) c = static_cast<float>(c / acc);
+    if (!scene.environment) return;
+    const EnvironmentDesc& e = *scene.environment;
+    std::unique_ptr<EnvironmentLight> env;
+    if (e.image.empty()) {
+        env = std::make_unique<EnvironmentLight>(e.color * e.scale, radius);
     } else {
-        // No power anywhere: fall back to uniform selection.
-        for (size_t i = 0; i < powerCdf_.size(); ++i) powerCdf_[i] = float(i + 1) / float(powerCdf_.size());
+        if (environmentImage.pixels.empty())
+            throw Error(ErrorCode::InvalidArgument, e.image + ": environment image was not decoded");
+        env = std::make_unique<EnvironmentLight>(std::move(environmentImage), e.scale, e.rotateDegrees, radius);
     }
-    if (!powerCdf_.empty()) powerCdf_.back() = 1.f;
+    environment_ = env.get();
+    lights_.push_back(std::move(env));
 }
 
 LightSet::~LightSet() = default;
-
-LightSet::Pick LightSet::pickByPower(float u) const {
-    size_t i = std::upper_bound(powerCdf_.begin(), powerCdf_.end(), u) - powerCdf_.begin();
-    i = std::min(i, powerCdf_.size() - 1);
-    const float lo = i ? powerCdf_[i - 1] : 0.f;
-    return {i, powerCdf_[i] - lo};
-}
 
 std::optional<LightSet::EmitterHit> LightSet::firstEmitterHit(const Ray& ray) const {
     Ray r = ray;  // shrinks to the closest hit so far, as in the naive accelerator

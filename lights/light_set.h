@@ -12,6 +12,7 @@
 #include "core/scene.h"
 #include "lights/light.h"
 #include "lights/light_lanes.h"
+#include "lights/power_light_picker.h"
 #include "lights/spherical_cap.h"
 
 namespace penumbra {
@@ -30,14 +31,8 @@ public:
     size_t size() const { return lights_.size(); }
     const Light& operator[](size_t i) const { return *lights_[i]; }
 
-    /// Power-proportional selection: light index for u in [0,1), with its probability.
-    struct Pick {
-        size_t index;
-        float probability;
-    };
-    Pick pickByPower(float u) const;
-    /// Probability that pickByPower picks light i.
-    float powerProbability(size_t i) const { return powerCdf_[i] - (i ? powerCdf_[i - 1] : 0.f); }
+    /// Selection of lights in proportion to their power (Light::power).
+    const PowerLightPicker& powerPicker() const { return *powerPicker_; }
 
     /// Index of the area light the hit lies on (from its PrimRef and
     /// material); nullopt for surfaces that are no light. Which side was hit
@@ -103,6 +98,12 @@ public:
     const EnvironmentLight* environment() const { return environment_; }
 
 private:
+    // The constructor's steps: the mesh lights, the area lights' bounding
+    // spheres and primitives, then the point, directional and environment lights.
+    void addMeshLights();
+    void addEmitterBounds();
+    void addDeltaAndEnvironmentLights(RgbImage environmentImage);
+
     const Scene& scene_;
     std::vector<std::unique_ptr<Light>> lights_;
     // Every area-light primitive, light by light; emitters_[i]: light i's
@@ -117,7 +118,7 @@ private:
     std::vector<int32_t> rectangleLight_, diskLight_, sphereLight_;
     std::vector<std::vector<std::pair<uint32_t, uint32_t>>> meshLights_;
     std::vector<BoundingSphere> bounds_;
-    std::vector<float> powerCdf_;  // normalised, last = 1
+    std::unique_ptr<PowerLightPicker> powerPicker_;
     size_t areaLights_ = 0;
     float totalArea_ = 0.f;
     const EnvironmentLight* environment_ = nullptr;

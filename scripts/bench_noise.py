@@ -2,10 +2,12 @@
 """Noise benchmark of the direct-light estimators (issue 15).
 
 For each scene: a reference with the same camera rays (same seed and spp) and
-converged direct light (--direct-light mis, many light samples), then the
+converged direct light (mis, many light samples), then the
 estimator before issue 15 (`before`: a build of --before-commit, light
 samples uniform by area from a multi-jittered set per shading point) and the
-three estimators of --direct-light at the same camera and light samples
+three estimators of penumbra-estimators (mis and light, the choices of
+penumbra's --direct-light, and area, the baseline no public API offers) at
+the same camera and light samples
 (equal samples), then `before` with its light samples raised until its render
 time matches that of `mis` (equal time). The figure is the relative MSE
 against the reference, mean over pixels and channels of
@@ -19,7 +21,8 @@ and the section of docs/benchmarks.md (scripts/benchmarks_doc_noise.md; run
 scripts/make_benchmarks_doc.py afterwards). Scenes under ../shared are skipped
 when it is absent.
 
-  scripts/bench_noise.py [--penumbra build/bin/penumbra] [--before-commit 44fc004 | --before BIN]
+  scripts/bench_noise.py [--penumbra build/bin/penumbra] [--estimators build/bin/penumbra-estimators]
+                         [--before-commit 44fc004 | --before BIN]
                          [--spp 4] [--light-samples 4] [--ref-light-samples 256] [--threads 2]
                          [--textbook-spp 25]
 
@@ -75,10 +78,10 @@ def rel_mse(img, ref):
 
 
 def render(exe, scene, extra, out, stats, spp, light_samples, mode, threads, seed=1):
-    cmd = [str(exe), str(scene), "-o", str(out), "-q", "--stats-json", str(stats), "--spp", str(spp),
+    """Renders with exe: the `before` build's penumbra (mode None) or penumbra-estimators with that estimator."""
+    cmd = [str(exe), str(scene), "-o", str(out), "--stats-json", str(stats), "--spp", str(spp),
            "--light-samples", str(light_samples), "--seed", str(seed), "--threads", str(threads)] + extra
-    if mode:
-        cmd += ["--direct-light", mode]
+    cmd += ["--estimator", mode] if mode else ["-q"]
     p = subprocess.run(cmd, stderr=subprocess.PIPE, text=True)
     if p.returncode != 0:
         sys.exit(f"bench_noise: {' '.join(cmd)} failed:\n{p.stderr}")
@@ -102,7 +105,8 @@ def build_before(commit):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--penumbra", default=str(ROOT / "build/bin/penumbra"))
+    ap.add_argument("--penumbra", default=str(ROOT / "build/bin/penumbra"), help="for the textbook timing")
+    ap.add_argument("--estimators", default=str(ROOT / "build/bin/penumbra-estimators"))
     ap.add_argument("--before-commit", default="44fc004",
                     help="the commit before issue 15, whose estimator is the baseline")
     ap.add_argument("--before", default="", help="its penumbra binary, if already built")
@@ -145,7 +149,7 @@ def main():
                 say("  illum 7 made illum 3 (a mirror) in a copy: the same scene for both renderers")
 
             def run(ls, mode, tag):
-                exe = before if mode == "before" else a.penumbra
+                exe = before if mode == "before" else a.estimators
                 st = render(exe, scene, extra, tmp / f"{tag}.pfm", tmp / f"{tag}.json", a.spp, ls,
                             None if mode == "before" else mode, a.threads)
                 return st["render_seconds"], st["rays"]["total"], read_pfm(tmp / f"{tag}.pfm")
@@ -245,7 +249,8 @@ def write_doc_part(path, a, commit, cpu, results, textbook, lines):
          "CornellBox-Sphere is rendered from a copy whose `illum 7` sphere (glass since issue 16, the mirror part\n",
          f"of it before) is `illum 3`, a mirror, so that both renderers render the same scene. `before` is the renderer of commit {a.before_commit}, before issue 15\n",
          "(light samples uniform in area, a multi-jittered set per shading point, a hash per sample for one-sample\n",
-         "lights); the script builds it. `area`, `light` and `mis` are today's `--direct-light` estimators, which all draw\n",
+         "lights); the script builds it. `area`, `light` and `mis` are today's estimators (`penumbra-estimators`;\n",
+         "`light` and `mis` are `--direct-light`'s, `area` the baseline no public API offers), which all draw\n",
          "from the pixel's Owen-scrambled (0,2)-sequence (stratified per shading point and across the pixel's camera\n",
          "samples): area-uniform light samples, solid-angle light samples, and light + Phong BRDF samples with the\n",
          f"power heuristic (the default). Equal samples: `--spp {a.spp} --light-samples {a.light_samples}` for all; equal\n",

@@ -18,11 +18,9 @@ LightWindows::LightWindows(const PhongSampler& sampler, const LightSet& lights, 
     // light's; the sphere's own radius may have rounded short.
     const double offset = 2.0 * double(rayOffsetScale(p));
     // Angles by their cosines and sines, so that the cone's bounds take sums
-    // of products instead of inverse and direct trigonometric calls: per
-    // light, an asin, and per lobe an acos and 4 sines or cosines, gave way
-    // to square roots (the windows took 4.3% of room.json's time with 16
-    // samples, now 3.0%). Each sum is exact to about 1e-16, far inside the
-    // margins.
+    // of products and square roots instead of an asin per light and an acos
+    // and four sines or cosines per lobe. Each sum is exact to about 1e-16,
+    // far inside the margins.
     constexpr double m = kAngleMargin;
     constexpr double cosMargin = 1.0 - m * m / 2.0 + m * m * m * m / 24.0;  // the next terms are below 1e-19
     constexpr double sinMargin = m - m * m * m / 6.0 + m * m * m * m * m / 120.0;

@@ -1,9 +1,9 @@
 // Which of a shading point's BRDF samples may meet an area light, told from
-// each sample's u before its direction is made. Under small lights most
-// direct-light BRDF samples meet no light (in room.json 99.8% of the glossy
-// sphere's, when it still took them) and add nothing, yet making each one's
-// direction (a pow or a square root, a sine and a cosine, a frame) and
-// testing it against the lights cost most of what those samples cost.
+// each sample's u before its direction is made. Under small lights nearly
+// all direct-light BRDF samples meet no light and add nothing
+// (docs/rendering.md, "MIS"), yet making each one's direction (a pow or a
+// square root, a sine and a cosine, a frame) and testing it against the
+// lights cost most of what those samples cost.
 //
 // Seen from the point, a light's bounding sphere fills a cone of directions
 // (half-angle b, its axis at angle g from a lobe's axis). A direction in it
@@ -28,7 +28,7 @@
 
 #include "core/math.h"
 #include "lights/light_set.h"
-#include "shading/phong_sampling.h"
+#include "shading/bsdf/phong_sampling.h"
 
 namespace penumbra {
 

@@ -1,14 +1,15 @@
 // Path tracing (--integrator path): paths of diffuse, glossy, mirror and glass
-// bounces with next-event estimation at every non-specular vertex, light and
-// BRDF samples combined by multiple importance sampling (Veach's power
-// heuristic), emitters hit by a bounce weighted by the same heuristic, and
+// bounces with next-event estimation at every vertex with smooth lobes (the
+// direct-light estimator, shading/direct_light.h, weighing each light sample
+// against the path's own next bounce by Veach's power heuristic), emitters and
+// the environment reached by a bounce weighted by the same heuristic, and
 // Russian roulette after a few bounces. docs/rendering.md states the model.
 //
 // It has the Whitted integrator's batched shape: camera hits arrive in batches
 // of up to 16 (shading/renderer.cpp); their shadow rays go out as packets of
 // 16 and every bounce's continuation rays as one packet. A path never splits,
 // so the lanes of a batch stay at the same depth. Every random number is a
-// pure function of (seed, pixel, sample index, dimension) (core/multi_jitter.h),
+// pure function of (seed, pixel, sample index, dimension) (shading/sample_key.h),
 // so images are bit-identical for any thread count and tile size.
 #pragma once
 
@@ -16,63 +17,42 @@
 #include <optional>
 #include <span>
 
-#include "accel/accelerator.h"
-#include "core/color.h"
-#include "core/render_settings.h"
-#include "core/scene.h"
-#include "lights/light_set.h"
+#include "shading/direct_light.h"
 #include "shading/integrator.h"
+#include "shading/surface_shading.h"
 
 namespace penumbra {
-
-class TextureCache;
 
 /// Path state of one camera sample (path_integrator.cpp).
 struct PathVertexLane;
 
-class PathIntegrator {
+class PathIntegrator final : public Integrator {
 public:
-    static constexpr size_t kMaxBatch = Integrator::kMaxBatch;
     /// Bounces before Russian roulette may end a path.
     static constexpr int kRouletteDepth = 3;
 
-    PathIntegrator(const Scene& scene, const Accelerator& accel, const LightSet& lights, const TextureCache* textures,
-                   const RenderSettings& settings);
+    explicit PathIntegrator(const IntegratorInputs& in);
 
-    void setPixelSpread(float radians) { surfaces_.setPixelSpread(radians); }
-
-    /// As Integrator::radianceBatch: radiance along each camera ray of a batch
-    /// whose closest hits the caller found; each result depends only on its
-    /// own ray, hit and key.
     void radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
                        std::span<const SampleKey> keys, std::span<Rgb> radiance, std::span<FirstHit> firstHits,
-                       RayCounts& counts) const;
-
-    /// Radiance along one camera ray (a batch of one; for tests and tools).
-    Rgb Li(const Ray& cameraRay, const SampleKey& key, RayCounts& counts) const;
+                       RayCounts& counts) const override;
 
 private:
-    /// What the lane's ray sees when it leaves the scene, times its MIS weight:
-    /// the scene's background (no light samples it: weight 1). The environment
-    /// light (LightSet::environment()) takes its place here when the scene has
-    /// one, weighted after a non-specular bounce as emitterHitWeight does.
+    /// What the lane's ray sees when it leaves the scene: the environment
+    /// light's radiance (weighed by MIS after a bounce from smooth lobes, as
+    /// an emitter hit is) or the background (no light samples it: weight 1).
     Rgb escaped(const PathVertexLane& lane) const;
-    /// Next-event estimation with MIS at every lane's vertex, added to its L.
-    void addDirectLight(std::span<PathVertexLane> lanes, std::span<const uint8_t> active, int depth,
-                        RayCounts& counts) const;
-    /// MIS weight of emission reached by a BRDF-sampled bounce from prevP
-    /// (solid-angle pdf bsdfPdf) at `hit`, against the light samples that could have found it.
-    float emitterHitWeight(const Vec3f& prevP, float bsdfPdf, const Hit& hit) const;
-    /// Solid-angle pdf with which the non-specular lobes (Phong) sample wi.
-    float scatterPdf(const PathVertexLane& lane, const Vec3f& wi) const;
+    /// Emission, the shading point and the lobes of every lane still going
+    /// at `depth`; the lanes that end there become inactive.
+    void shadeVertices(std::span<PathVertexLane> lanes, std::span<uint8_t> active, int depth,
+                       std::span<FirstHit> firstHits) const;
     /// Samples the lane's next direction; false when the path ends there.
     bool scatter(PathVertexLane& lane, int depth, RayCounts& counts) const;
 
-    const Scene& scene_;
-    const Accelerator& accel_;
     const LightSet& lights_;
     RenderSettings settings_;
-    Integrator surfaces_;  // builds shading points the one way both integrators share
+    SurfaceShading surfaces_;
+    DirectLight direct_;
 };
 
 }  // namespace penumbra

@@ -1,5 +1,6 @@
 #include "shading/renderer.h"
 
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -16,7 +17,7 @@
 #include "core/parallel.h"
 #include "core/rgb_image.h"
 #include "core/texture_cache.h"
-#include "shading/path_integrator.h"
+#include "shading/integrator.h"
 
 namespace penumbra {
 namespace {
@@ -66,10 +67,7 @@ PreparedScene::PreparedScene(Scene scene, const PrepareOptions& options, const L
 
 PreparedScene::~PreparedScene() = default;
 
-Film makeFilm(const RenderSettings& s) {
-    CropWindow w = s.crop ? *s.crop : CropWindow{0, 0, s.width, s.height};
-    return Film(s.width, s.height, w, s.aovs);
-}
+Film makeFilm(const RenderSettings& s) { return Film(s.width, s.height, pnb::renderWindow(s), s.aovs); }
 
 namespace {
 
@@ -84,7 +82,6 @@ struct PassContext {
     uint32_t firstSample, sampleCount;
     bool useLens;
     const std::atomic<bool>* cancel;
-    const PathIntegrator* path;  // set with --integrator path; else `integrator` (Whitted) shades
 
     bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
 };
@@ -92,19 +89,6 @@ struct PassContext {
 struct PixelRect {
     int x0, y0, x1, y1;
 };
-
-// Checks a pass's arguments against its film; throws Error(InvalidArgument).
-void checkPass(const RenderSettings& settings, const Film& film, uint32_t firstSample, uint32_t sampleCount) {
-    validateSettings(settings);
-    const CropWindow window = settings.crop ? *settings.crop : CropWindow{0, 0, settings.width, settings.height};
-    if (film.fullWidth() != settings.width || film.fullHeight() != settings.height || !(film.window() == window))
-        throw Error(ErrorCode::InvalidArgument, "film does not match the render settings (size or crop window)");
-    if (uint64_t(firstSample) + sampleCount > uint64_t(settings.spp))
-        throw Error(ErrorCode::InvalidArgument, "sample range exceeds spp");
-    if (film.sampleCount() != firstSample)
-        throw Error(ErrorCode::InvalidArgument, "film holds " + std::to_string(film.sampleCount()) +
-                                                    " samples per pixel; the pass must start there");
-}
 
 // The pixel (and lens) sample sets of a tile's blocks: every set has spp
 // samples on one grid; drawn as lanes (MultiJitterLanes), whose lanes each
@@ -198,15 +182,10 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
         c.camera.generateRayLanes(filmX, filmY, c.useLens ? lens : nullptr, int(count), rayLanes);
         c.prepared.accelerator().intersectLanes(rayLanes, std::span<std::optional<Hit>>(hits.data(), count), rays);
         const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();
-        if (c.path)
-            c.path->radianceBatch(std::span<const Ray>(rays, count), std::span<const std::optional<Hit>>(hits.data(), count),
-                                  std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count), firstHits,
-                                  counts);
-        else
-            c.integrator.radianceBatch(std::span<const Ray>(rays, count),
-                                       std::span<const std::optional<Hit>>(hits.data(), count),
-                                       std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count),
-                                       firstHits, counts);
+        c.integrator.radianceBatch(std::span<const Ray>(rays, count),
+                                   std::span<const std::optional<Hit>>(hits.data(), count),
+                                   std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count), firstHits,
+                                   counts);
         for (size_t i = 0; i < count; ++i) {
             c.film.addRadiance(filmIndex[i], radiance[i]);
             if (aovs) c.film.addAov(filmIndex[i], first[i].albedo, first[i].normal, first[i].depth);
@@ -241,19 +220,17 @@ bool renderTile(const PassContext& c, const PixelRect& tile, RayCounts& counts) 
 }  // namespace
 
 PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDesc, const RenderSettings& settings,
-                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control) {
-    checkPass(settings, film, firstSample, sampleCount);
+                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control,
+                       const InternalSettings& internal) {
+    // The API checked the arguments (api/render.cpp, checkRender and checkPass).
+    assert(film.window() == pnb::renderWindow(settings) && film.sampleCount() == firstSample &&
+           uint64_t(firstSample) + sampleCount <= uint64_t(settings.spp));
     const Camera camera(cameraDesc, settings.width, settings.height);
-    Integrator integrator(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings);
     const float pixelSpread = 2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height);
-    integrator.setPixelSpread(pixelSpread);
-    std::optional<PathIntegrator> path;
-    if (settings.integrator == IntegratorKind::Path) {
-        path.emplace(prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings);
-        path->setPixelSpread(pixelSpread);
-    }
-    const PassContext context{prepared,    camera,      integrator, settings, film, film.window(), firstSample,
-                              sampleCount, cameraDesc.aperture > 0.f, control.cancel, path ? &*path : nullptr};
+    const std::unique_ptr<Integrator> integrator = makeIntegrator(
+        {prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings, pixelSpread, internal});
+    const PassContext context{prepared, camera,      *integrator, settings, film, film.window(), firstSample,
+                              sampleCount, cameraDesc.aperture > 0.f, control.cancel};
 
     const CropWindow& window = context.window;
     const int tile = settings.tileSize;
@@ -297,7 +274,7 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     stats.pathLengthSum = total.pathLengthSum;
     stats.pathLengthMax = total.pathLengthMax;
     stats.invalidRays = prepared.accelerator().invalidRayCount() - invalidBefore;
-    stats.threads = settings.threads > 0 ? settings.threads : hardwareThreads();
+    stats.threads = threadsFor(settings.threads);
     result.cancelled = stopped.load();
     stats.mraysPerSecond = stats.renderSeconds > 0 ? double(total.total()) / stats.renderSeconds * 1e-6 : 0.0;
     if (!result.cancelled) film.setSampleCount(firstSample + sampleCount);
@@ -306,9 +283,9 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
 }
 
 PassResult render(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings, Film& film,
-                   const RenderControl& control) {
+                   const RenderControl& control, const InternalSettings& internal) {
     return renderPass(prepared, camera, settings, film, film.sampleCount(), uint32_t(settings.spp) - film.sampleCount(),
-                      control);
+                      control, internal);
 }
 
 }  // namespace penumbra

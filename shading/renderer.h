@@ -23,7 +23,7 @@ namespace penumbra {
 class TextureCache;
 
 struct PrepareOptions {
-    std::string accelerator = "embree";  // "embree" or "naive"
+    AcceleratorKind accelerator = AcceleratorKind::Embree;
     BuildQuality quality = BuildQuality::High;
 };
 
@@ -87,13 +87,15 @@ struct RenderControl {
 /// what it holds. Rendering samples [0, spp) in one call or in several passes
 /// gives bit-identical films, for any thread count and tile size. The film
 /// must match settings (size, crop). A cancelled call leaves the film partly
-/// accumulated (PassResult::cancelled is set): discard it.
+/// accumulated (PassResult::cancelled is set): discard it. `internal` holds
+/// what only the benchmark tools set (the comparison baselines).
 PassResult renderPass(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings,
-                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control = {});
+                       Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control = {},
+                       const InternalSettings& internal = {});
 
 /// Convenience: a new film with all settings.spp samples.
 Film makeFilm(const RenderSettings& settings);
 PassResult render(const PreparedScene& prepared, const CameraDesc& camera, const RenderSettings& settings, Film& film,
-                   const RenderControl& control = {});
+                   const RenderControl& control = {}, const InternalSettings& internal = {});
 
 }  // namespace penumbra

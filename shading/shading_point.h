@@ -16,14 +16,20 @@ struct ShadingPoint {
     Vec3f wo;   // unit direction back along the ray
     Rgb kd;     // diffuse albedo after texturing
     const Material* material = nullptr;
-    // material->isGlossy(); set by Integrator::shade, so that the per-lane
+    // The response is more than the Lambertian kd/pi (material->isGlossy():
+    // a Phong lobe); set by SurfaceShading::shade, so that the per-lane
     // decisions (which lanes take light samples, MIS, ShadowLanes' rule) need
     // not load through `material`.
     bool glossy = false;
+    bool front = true;  // the ray arrived on the side the surface's own geometric normal faces
 
     /// Whether any light can reach the viewer from here (a black or pure
     /// mirror material needs no light samples).
     bool reflectsLight() const { return glossy || !kd.isBlack(); }
+    /// Whether the material's emission ke leaves towards the viewer: emission
+    /// is one-sided, from the side the geometric normal faces, unless the
+    /// material emits on both sides.
+    bool emits() const { return material->isEmissive() && (front || material->twoSidedEmission); }
 };
 
 }  // namespace penumbra

@@ -7,8 +7,8 @@
 
 namespace penumbra {
 
-PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, float nLight, float nBrdf,
-                                                 const Accelerator& accel, Rgb* added, bool clear) const {
+PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, float nLight, const Accelerator& accel,
+                                                 Rgb* added, bool clear) const {
     const LanePoints& at = points_;
     RayLanes rays;
     alignas(64) float wr[kWidth], wg[kWidth], wb[kWidth];
@@ -73,7 +73,7 @@ PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, flo
         if (atInfinity) rays.set(c, spawnRay(at.p(c), at.n(c), ls.wi));
         if (!scalar_[c]) continue;
         Rgb w;
-        rays.active[c] = shadowSampleWeight(*sp_[c], ls, 1.f, ls.pdf, mis_[c], nLight, nBrdf, w) ? 1 : 0;
+        rays.active[c] = shadowSampleWeight(*sp_[c], ls, 1.f, ls.pdf, misCount_[c], nLight, w) ? 1 : 0;
         wr[c] = w.r;
         wg[c] = w.g;
         wb[c] = w.b;

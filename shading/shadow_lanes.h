@@ -15,9 +15,8 @@
 #include "core/color.h"
 #include "core/ray_lanes.h"
 #include "lights/light_lanes.h"
+#include "shading/bsdf/bsdf.h"
 #include "shading/mis.h"
-#include "shading/phong.h"
-#include "shading/phong_sampling.h"
 #include "shading/shading_point.h"
 
 namespace penumbra {
@@ -26,18 +25,20 @@ namespace penumbra {
 /// shadow ray is unoccluded; false where it adds nothing (below the geometric
 /// surface, or a black response). lightPdf: the light-sampling pdf of the
 /// sample's direction (solid angle pdf times the light's selection
-/// probability); mis: weigh it against nBrdf BRDF samples with the power
-/// heuristic (nLight light samples).
-inline bool shadowSampleWeight(const ShadingPoint& sp, const LightSample& ls, float scale, float lightPdf, bool mis,
-                               float nLight, float nBrdf, Rgb& weight) {
+/// probability). misCount > 0: the sample is weighed by the power heuristic,
+/// as one of nLight light samples, against misCount BSDF samples of the pdf
+/// bsdfEvaluate gives (a fraction where a bounce picks the smooth lobes with
+/// that probability); 0: no BSDF sample can find the light (weight 1).
+inline bool shadowSampleWeight(const ShadingPoint& sp, const LightSample& ls, float scale, float lightPdf,
+                               float misCount, float nLight, Rgb& weight) {
     if (dot(ls.wi, sp.ng) <= 0.f) return false;  // below the geometric surface
     Rgb f;
-    if (mis && !ls.delta) {
-        const PhongSample e = phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi);
+    if (misCount > 0.f && !ls.delta) {
+        const BsdfSample e = bsdfEvaluate(sp, ls.wi);
         f = e.fCos;
-        scale *= powerHeuristic(nLight, lightPdf, nBrdf, e.pdf);
+        scale *= powerHeuristic(nLight, lightPdf, misCount, e.pdf);
     } else {
-        f = phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, ls.wi, ls.delta);
+        f = bsdfResponse(sp, ls.wi, ls.delta);
     }
     if (f.isBlack()) return false;
     weight = f * ls.L * (scale / ls.pdf);
@@ -48,20 +49,20 @@ class ShadowLanes {
 public:
     static constexpr int kWidth = RayLanes::kWidth;
 
-    /// Lane c's shading point; mis as in shadowSampleWeight. The point must
-    /// outlive the lanes (lanes that need the scalar rule read it).
-    void setLane(int c, const ShadingPoint& sp, bool mis) {
+    /// Lane c's shading point; misCount as in shadowSampleWeight. The point
+    /// must outlive the lanes (lanes that need the scalar rule read it).
+    void setLane(int c, const ShadingPoint& sp, float misCount) {
         points_.set(c, sp.p, sp.ng);
-        setShading(c, sp, mis);
+        setShading(c, sp, misCount);
     }
     /// The lanes' points and normals at once, where the caller has them as
     /// lanes already: then setShading sets the rest of each lane.
     void setPoints(const LanePoints& points) { points_ = points; }
     /// setLane but for the point and normal.
-    void setShading(int c, const ShadingPoint& sp, bool mis);
+    void setShading(int c, const ShadingPoint& sp, float misCount);
     /// Every lane at one shading point (its samples are then the lanes).
-    void setAll(const ShadingPoint& sp, bool mis) {
-        for (int c = 0; c < kWidth; ++c) setLane(c, sp, mis);
+    void setAll(const ShadingPoint& sp, float misCount) {
+        for (int c = 0; c < kWidth; ++c) setLane(c, sp, misCount);
     }
     /// The lanes' points and geometric normals, for Light::mayReachLanes and sampleLanes.
     const LanePoints& points() const { return points_; }
@@ -71,9 +72,9 @@ public:
     /// the sample's pdf) of each unoccluded one, Rgb{} for the others.
     /// Returns how many shadow rays it answered. clear: the caller knows that
     /// nothing lies between the lanes' points and their samples
-    /// (Integrator::shadowsClear): the rays are neither made nor traced, and
+    /// (DirectLight::shadowsClear): the rays are neither made nor traced, and
     /// every one is unoccluded, as a query would have found.
-    uint32_t trace(const LightLanes& samples, int n, float nLight, float nBrdf, const Accelerator& accel, Rgb* added,
+    uint32_t trace(const LightLanes& samples, int n, float nLight, const Accelerator& accel, Rgb* added,
                    bool clear = false) const;
 
 private:
@@ -82,10 +83,10 @@ private:
     alignas(64) float kdr_[kWidth], kdg_[kWidth], kdb_[kWidth];
     alignas(64) int32_t scalar_[kWidth];  // 1: glossy or MIS, weighed by shadowSampleWeight
     const ShadingPoint* sp_[kWidth];
-    bool mis_[kWidth];
+    float misCount_[kWidth];
 };
 
-[[gnu::always_inline]] inline void ShadowLanes::setShading(int c, const ShadingPoint& sp, bool mis) {
+[[gnu::always_inline]] inline void ShadowLanes::setShading(int c, const ShadingPoint& sp, float misCount) {
     nsx_[c] = sp.ns.x;
     nsy_[c] = sp.ns.y;
     nsz_[c] = sp.ns.z;
@@ -94,9 +95,9 @@ private:
     kdb_[c] = sp.kd.b;
     // Only the Lambertian lanes' weights come from the arrays (the others'
     // from shadowSampleWeight), so no specular term is gathered.
-    scalar_[c] = mis || sp.glossy;
+    scalar_[c] = misCount > 0.f || sp.glossy;
     sp_[c] = &sp;
-    mis_[c] = mis;
+    misCount_[c] = misCount;
 }
 
 }  // namespace penumbra

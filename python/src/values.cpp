@@ -96,8 +96,7 @@ pnb::DirectLightSampling directLightFrom(const py::handle& value) {
         const std::string s = value.cast<std::string>();
         if (s == "mis") return pnb::DirectLightSampling::Mis;
         if (s == "light") return pnb::DirectLightSampling::Light;
-        if (s == "area") return pnb::DirectLightSampling::Area;
-        invalid("direct_light must be 'mis', 'light' or 'area', got '" + s + "'");
+        invalid("direct_light must be 'mis' or 'light', got '" + s + "'");
     }
     return value.cast<pnb::DirectLightSampling>();
 }
@@ -118,7 +117,7 @@ std::string settingsRepr(const pnb::RenderSettings& s) {
     r += std::string(", light_selection='") + (s.lightSelection == pnb::LightSelection::Power ? "power" : "all") + "'";
     r += std::string(", aovs=") + (s.aovs ? "True" : "False");
     r += std::string(", integrator='") + (s.integrator == pnb::IntegratorKind::Path ? "path" : "whitted") + "'";
-    const char* direct[] = {"mis", "light", "area"};
+    const char* direct[] = {"mis", "light"};
     r += std::string(", direct_light='") + direct[static_cast<int>(s.directLight)] + "')";
     return r;
 }
@@ -180,11 +179,12 @@ void bindValues(py::module_& m) {
         .value("Whitted", pnb::IntegratorKind::Whitted)
         .value("Path", pnb::IntegratorKind::Path);
     py::enum_<pnb::DirectLightSampling>(m, "DirectLightSampling",
-                                        "Mis: light + BRDF samples (default); Light: light samples only; "
-                                        "Area: uniform-area light samples (the old estimator)")
+                                        "Mis: light + BRDF samples (default); Light: light samples only")
         .value("Mis", pnb::DirectLightSampling::Mis)
-        .value("Light", pnb::DirectLightSampling::Light)
-        .value("Area", pnb::DirectLightSampling::Area);
+        .value("Light", pnb::DirectLightSampling::Light);
+    py::enum_<pnb::AcceleratorKind>(m, "AcceleratorKind")
+        .value("Embree", pnb::AcceleratorKind::Embree)
+        .value("Naive", pnb::AcceleratorKind::Naive);
     py::enum_<pnb::BuildQuality>(m, "BuildQuality")
         .value("Low", pnb::BuildQuality::Low)
         .value("Medium", pnb::BuildQuality::Medium)

@@ -63,7 +63,7 @@ def test_settings_and_camera_values():
     assert (s.width, s.height, s.spp, s.seed, s.crop) == (64, 512, 3, 2**64 - 1, (0, 0, 8, 8))
     assert s.light_selection == penumbra.LightSelection.Power
     assert s.direct_light == penumbra.DirectLightSampling.Mis
-    assert s.replace(direct_light="area").direct_light == penumbra.DirectLightSampling.Area
+    assert s.replace(direct_light="light").direct_light == penumbra.DirectLightSampling.Light
     t = s.replace(height=10, crop=None)
     assert t.height == 10 and t.crop == (0, 0, 8, 8) and s.height == 512
     c = penumbra.Camera(eye=numpy.array([1, 2, 3]), look_at=[0, 0, 0])

@@ -219,7 +219,7 @@ TEST(EnvironmentLight, ConstantColourIsUniform) {
     EXPECT_FLOAT_EQ(ls->pdf, 1.f / (4.f * kPi));
     EXPECT_FLOAT_EQ(light.pdf(Vec3f{0, 0, 1}), 1.f / (4.f * kPi));
     // pi^2 R^2 L: a directional light of irradiance pi L over the scene's disk.
-    EXPECT_NEAR(light.power().g, kPi * kPi * 4.f * 2.f, 1e-3f);
+    EXPECT_NEAR(light.power(), kPi * kPi * 4.f * 2.f, 1e-3f);  // 2: the mean of the channels
 }
 
 TEST(LightSet, FindsTheEnvironmentAsItsLastLight) {
@@ -259,6 +259,6 @@ TEST(LightSet, PowerSelectionWeighsTheEnvironmentLikeADirectionalLight) {
     s.environment = env;
     LightSet lights(s);
     ASSERT_EQ(lights.size(), 2u);
-    EXPECT_NEAR(lights.pickByPower(0.25f).probability, 0.5f, 1e-5f);
-    EXPECT_EQ(lights.pickByPower(0.75f).index, 1u);
+    EXPECT_NEAR(lights.powerPicker().pick(0.25f, Vec3f{}, Vec3f{}).probability, 0.5f, 1e-5f);
+    EXPECT_EQ(lights.powerPicker().pick(0.75f, Vec3f{}, Vec3f{}).index, 1u);
 }

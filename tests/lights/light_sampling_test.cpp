@@ -403,7 +403,7 @@ TEST(LightSampling, SampleLanesLeaveLanesNotAskedForEmpty) {
 }
 
 TEST(LightSampling, AreaSamplingStillFitsItsPdf) {
-    // sampleArea (--direct-light area) against the area pdf converted to solid angle.
+    // sampleArea (the uniform-area baseline) against the area pdf converted to solid angle.
     Scene s = emitterScene(false);
     s.rectangles.push_back(Rectangle{Vec3f{1.f, -0.4f, 0.2f}, Vec3f{0, 0, 1.1f}, Vec3f{0, 1.5f, 0}, 0});
     ShapeAreaLight light(s, ShapeAreaLight::Kind::Rectangle, 0);
@@ -477,9 +477,10 @@ TEST(LightSet, FindsTheLightOfAnEmitterHit) {
     EXPECT_NE(*m1, *m2);
     EXPECT_FALSE(lightOf(ShapeKind::Mesh, 0, 1, 0).has_value());
     EXPECT_FALSE(lightOf(ShapeKind::Plane, 0, 0, 1).has_value());
-    // The power probabilities sum to 1 and match pickByPower.
+    // The power probabilities sum to 1 and match its picks.
     double sum = 0;
-    for (size_t i = 0; i < lights.size(); ++i) sum += lights.powerProbability(i);
+    for (size_t i = 0; i < lights.size(); ++i) sum += lights.powerPicker().probability(i, Vec3f{}, Vec3f{});
     EXPECT_NEAR(sum, 1.0, 1e-6);
-    EXPECT_FLOAT_EQ(lights.pickByPower(0.f).probability, lights.powerProbability(0));
+    const PowerLightPicker& power = lights.powerPicker();
+    EXPECT_FLOAT_EQ(power.pick(0.f, Vec3f{}, Vec3f{}).probability, power.probability(0, Vec3f{}, Vec3f{}));
 }

@@ -5,7 +5,7 @@
 
 #include "core/log.h"
 #include "core/multi_jitter.h"
-#include "shading/integrator.h"
+#include "shading/whitted_integrator.h"
 #include "shading/renderer.h"
 #include "support/both_accelerators.h"
 
@@ -39,7 +39,7 @@ Rgb radianceAlong(const PreparedScene& ps, const Ray& ray, int lightSamples, int
     RenderSettings st;
     st.lightSamples = lightSamples;
     st.maxDepth = maxDepth;
-    Integrator integ(ps.scene(), ps.accelerator(), ps.lights(), ps.textures(), st);
+    WhittedIntegrator integ({ps.scene(), ps.accelerator(), ps.lights(), ps.textures(), st});
     RayCounts counts;
     return integ.Li(ray, SampleKey{pixelSampleKey(1, 0), 0}, counts, nullptr);
 }

@@ -1,7 +1,7 @@
 // Smooth dielectrics: Fresnel against closed forms, Snell's law, total
 // internal reflection, and the path integrator's reflect/refract choice
 // against the Fresnel probabilities (a chi-square test of the two outcomes).
-#include "shading/dielectric.h"
+#include "shading/bsdf/dielectric.h"
 
 #include <gtest/gtest.h>
 

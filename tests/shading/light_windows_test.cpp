@@ -16,7 +16,7 @@
 #include "core/shapes.h"
 #include "lights/light_set.h"
 #include "shading/light_windows.h"
-#include "shading/phong_sampling.h"
+#include "shading/bsdf/phong_sampling.h"
 
 using namespace penumbra;
 

@@ -2,14 +2,14 @@
 // phongPdf for both models, several exponents and lobe mixes; the returned
 // f cos matches phongResponse; the estimate f cos / pdf integrates the
 // BRDF's albedo.
-#include "shading/phong_sampling.h"
+#include "shading/bsdf/phong_sampling.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "core/multi_jitter.h"
-#include "shading/phong.h"
+#include "shading/bsdf/phong.h"
 #include "support/chi_square.h"
 
 using namespace penumbra;
@@ -96,7 +96,7 @@ TEST(PhongSampling, ASamplerAtOnePointGivesSamplePhongsSamples) {
             const auto want = samplePhong(m, m.kd, n, wo, u), got = sampler.sample(u);
             ASSERT_EQ(got.has_value(), want.has_value()) << "sample " << i;
             const std::optional<Vec3f> wi = sampler.direction(u);
-            const std::optional<PhongSample> twoSteps =
+            const std::optional<BsdfSample> twoSteps =
                 wi && sampler.evaluate(*wi).pdf > 0.f ? std::optional(sampler.evaluate(*wi)) : std::nullopt;
             ASSERT_EQ(twoSteps.has_value(), want.has_value()) << "sample " << i;
             if (!want) continue;

@@ -1,5 +1,5 @@
 // The Phong BRDF in both models against hand-computed values.
-#include "shading/phong.h"
+#include "shading/bsdf/phong.h"
 
 #include <gtest/gtest.h>
 

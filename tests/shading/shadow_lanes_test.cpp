@@ -14,7 +14,7 @@
 #include "core/scene.h"
 #include "lights/area_light.h"
 #include "lights/light_lanes.h"
-#include "shading/phong.h"
+#include "shading/bsdf/phong.h"
 #include "shading/shadow_lanes.h"
 
 namespace penumbra {
@@ -57,7 +57,7 @@ std::vector<Material> materials() {
 
 TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
     const Scene scene = litScene();
-    const auto accel = makeAccelerator("embree", scene);
+    const auto accel = makeAccelerator(AcceleratorKind::Embree, scene);
     const ShapeAreaLight light(scene, ShapeAreaLight::Kind::Rectangle, 0);
     const std::vector<Material> ms = materials();
     constexpr int W = ShadowLanes::kWidth;
@@ -68,34 +68,34 @@ TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
         const int n = std::min(W, kPoints - b);
         ShadowLanes lanes;
         LightLanes samples;
-        bool mis[W] = {};
+        float mis[W] = {};  // the MIS count: one BSDF sample per point where set
         for (int c = 0; c < n; ++c) {
             const uint32_t i = uint32_t(b + c);
             const Vec2f a = multiJitter2D(i, kPoints, 3), u = multiJitter2D(i, kPoints, 4);
             ShadingPoint& sp = sps[i];
             sp.material = &ms[i % ms.size()];
             sp.kd = sp.material->kd;
-            sp.glossy = sp.material->isGlossy();  // as Integrator::shade sets it
+            sp.glossy = sp.material->isGlossy();  // as SurfaceShading::shade sets it
             sp.p = Vec3f{6.f * a.x - 3.f, 0.f, 6.f * a.y - 3.f};  // on the floor, some in the sphere's shadow
             sp.ng = Vec3f{0, 1, 0};
             sp.ns = normalize(Vec3f{0.3f * (u.y - 0.5f), 1.f, 0.2f});
             sp.wo = normalize(Vec3f{a.y - 0.5f, 0.8f, a.x - 0.2f});
             if (i % 7 == 5) sp.ng = Vec3f{0, -1, 0};  // facing away: every sample below the surface
-            mis[c] = i % 3 == 1;
+            mis[c] = i % 3 == 1 ? 1.f : 0.f;
             lanes.setLane(c, sp, mis[c]);
             std::optional<LightSample> ls = light.sample(sp.p, u);
             if (ls && i % 11 == 4) ls->distance = kInfinity;  // a sample in a direction (as environments give)
             samples.set(c, ls);
         }
         Rgb got[W];
-        traced += int(lanes.trace(samples, n, 2.f, 1.f, *accel, got));
+        traced += int(lanes.trace(samples, n, 2.f, *accel, got));
         for (int c = 0; c < n; ++c) {
             const ShadingPoint& sp = sps[size_t(b + c)];
             Rgb want;
             if (samples.ok[c]) {
                 const LightSample ls = samples.get(c);
                 Rgb w;
-                if (shadowSampleWeight(sp, ls, 1.f, ls.pdf, mis[c], 2.f, 1.f, w)) {
+                if (shadowSampleWeight(sp, ls, 1.f, ls.pdf, mis[c], 2.f, w)) {
                     const Ray ray =
                         std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point);
                     if (!accel->occluded(ray)) {
@@ -126,15 +126,15 @@ TEST(ShadowLanes, TheScalarRuleMatchesThePhongResponse) {
     sp.wo = normalize(Vec3f{1, 1, 0});
     const LightSample ls{Rgb(2.f), normalize(Vec3f{-1, 1, 0}), Vec3f{-1, 1, 0}, std::sqrt(2.f), 0.5f, false};
     Rgb w;
-    ASSERT_TRUE(shadowSampleWeight(sp, ls, 1.f, ls.pdf, false, 1.f, 1.f, w));
+    ASSERT_TRUE(shadowSampleWeight(sp, ls, 1.f, ls.pdf, 0.f, 1.f, w));
     const Rgb f = phongResponse(m, m.kd, sp.ns, sp.wo, ls.wi, false);
     EXPECT_EQ(w, f * ls.L * (1.f / 0.5f));
     LightSample below = ls;
     below.wi = normalize(Vec3f{-1, -1, 0});
-    EXPECT_FALSE(shadowSampleWeight(sp, below, 1.f, below.pdf, false, 1.f, 1.f, w));
+    EXPECT_FALSE(shadowSampleWeight(sp, below, 1.f, below.pdf, 0.f, 1.f, w));
     // Under MIS the weight shrinks by the power heuristic against the BRDF's pdf.
     Rgb misW;
-    ASSERT_TRUE(shadowSampleWeight(sp, ls, 1.f, ls.pdf, true, 1.f, 1.f, misW));
+    ASSERT_TRUE(shadowSampleWeight(sp, ls, 1.f, ls.pdf, 1.f, 1.f, misW));
     EXPECT_LT(misW.r, w.r);
     EXPECT_GT(misW.r, 0.f);
 }

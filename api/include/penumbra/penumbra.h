@@ -122,13 +122,8 @@ typedef struct pnb_camera {
 } pnb_camera;
 
 typedef enum pnb_light_selection { PNB_LIGHTS_ALL = 0, PNB_LIGHTS_POWER = 1 } pnb_light_selection;
-/* Area-light estimator (docs/rendering.md): light + BRDF samples with MIS (default), light samples only,
-   or the old uniform-area light samples (for comparisons). */
-typedef enum pnb_direct_light {
-    PNB_DIRECT_LIGHT_MIS = 0,
-    PNB_DIRECT_LIGHT_LIGHT = 1,
-    PNB_DIRECT_LIGHT_AREA = 2
-} pnb_direct_light;
+/* Area-light estimator (docs/rendering.md): light + BRDF samples with MIS (default), or light samples only. */
+typedef enum pnb_direct_light { PNB_DIRECT_LIGHT_MIS = 0, PNB_DIRECT_LIGHT_LIGHT = 1 } pnb_direct_light;
 
 typedef enum pnb_integrator { PNB_INTEGRATOR_WHITTED = 0, PNB_INTEGRATOR_PATH = 1 } pnb_integrator;
 
@@ -165,8 +160,10 @@ typedef struct pnb_load_options {
 
 typedef enum pnb_build_quality { PNB_BUILD_LOW = 0, PNB_BUILD_MEDIUM = 1, PNB_BUILD_HIGH = 2 } pnb_build_quality;
 
+typedef enum pnb_accelerator { PNB_ACCEL_EMBREE = 0, PNB_ACCEL_NAIVE = 1 } pnb_accelerator;
+
 typedef struct pnb_prepare_options {
-    const char* accelerator; /* "embree" (default when NULL) or "naive" */
+    pnb_accelerator accelerator; /* PNB_ACCEL_EMBREE (default) or PNB_ACCEL_NAIVE, the O(N) reference */
     pnb_build_quality quality;
 } pnb_prepare_options;
 

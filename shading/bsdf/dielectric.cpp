@@ -1,4 +1,4 @@
-#include "shading/dielectric.h"
+#include "shading/bsdf/dielectric.h"
 
 #include <algorithm>
 #include <cmath>

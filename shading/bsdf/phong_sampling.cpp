@@ -1,11 +1,11 @@
-#include "shading/phong_sampling.h"
+#include "shading/bsdf/phong_sampling.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "core/sampling.h"
-#include "shading/phong.h"
+#include "shading/bsdf/phong.h"
 
 namespace penumbra {
 
@@ -33,7 +33,7 @@ float phongDiffuseProbability(const Material& m, const Rgb& kd) {
 namespace {
 
 // phongEvaluate with the diffuse lobe's probability pd given.
-PhongSample evaluateWith(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi, float pd) {
+BsdfSample evaluateWith(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi, float pd) {
     const float cosTheta = dot(n, wi);
     // cos(alpha) between wi and the mirror direction of wo, computed as
     // phongResponse does (the mirror direction of wi against wo: the same angle).
@@ -49,7 +49,7 @@ PhongSample evaluateWith(const Material& m, const Rgb& kd, const Vec3f& n, const
         const float norm = m.model == PhongModel::Normalized ? (e + 2.f) * kInv2Pi : 1.f;
         fCos = (kd * kInvPi + m.ks * (norm * specular)) * cosTheta;
     }
-    return PhongSample{wi, fCos, pdf};
+    return BsdfSample{wi, fCos, pdf};
 }
 
 Vec3f mirrorOf(const Vec3f& n, const Vec3f& wo) { return normalize(2.f * dot(n, wo) * n - wo); }
@@ -77,21 +77,21 @@ std::optional<Vec3f> sampleLobeDirection(const Material& m, const Vec3f& n, Vec2
 }
 
 // The sample of that direction: f cos and pdf, none where the pdf is zero.
-std::optional<PhongSample> evaluated(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo,
+std::optional<BsdfSample> evaluated(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo,
                                      const std::optional<Vec3f>& wi, float pd) {
     if (!wi) return std::nullopt;
-    const PhongSample s = evaluateWith(m, kd, n, wo, *wi, pd);
+    const BsdfSample s = evaluateWith(m, kd, n, wo, *wi, pd);
     if (!(s.pdf > 0.f)) return std::nullopt;
     return s;
 }
 
 }  // namespace
 
-PhongSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi) {
+BsdfSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi) {
     return evaluateWith(m, kd, n, wo, wi, phongDiffuseProbability(m, kd));
 }
 
-std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u) {
+std::optional<BsdfSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u) {
     const float pd = phongDiffuseProbability(m, kd);
     const std::optional<Vec3f> wi = sampleLobeDirection(
         m, n, u, pd, [&] { return Frame::fromNormal(n); }, [&] { return Frame::fromNormal(mirrorOf(n, wo)); });
@@ -109,7 +109,7 @@ std::optional<Vec3f> PhongSampler::direction(Vec2f u) const {
         m_, n_, u, pd_, [this]() -> const Frame& { return diffuse_; }, [this]() -> const Frame& { return lobe_; });
 }
 
-PhongSample PhongSampler::evaluate(const Vec3f& wi) const { return evaluateWith(m_, kd_, n_, wo_, wi, pd_); }
+BsdfSample PhongSampler::evaluate(const Vec3f& wi) const { return evaluateWith(m_, kd_, n_, wo_, wi, pd_); }
 
 PhongSampler::Polar PhongSampler::polar(Vec2f u) const {
     const auto [diffuse, v] = pickLobe(u, pd_);
@@ -139,7 +139,7 @@ std::pair<float, float> PhongSampler::polarRange(bool diffuse, Angle minAngle, A
     return {lo, hi};
 }
 
-std::optional<PhongSample> PhongSampler::sample(Vec2f u) const { return evaluated(m_, kd_, n_, wo_, direction(u), pd_); }
+std::optional<BsdfSample> PhongSampler::sample(Vec2f u) const { return evaluated(m_, kd_, n_, wo_, direction(u), pd_); }
 
 float phongPdf(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi) {
     return phongEvaluate(m, kd, n, wo, wi).pdf;

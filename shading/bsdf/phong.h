@@ -8,11 +8,11 @@
 //     f_r = kd/pi + ks (n+2)/(2 pi) cos^n(alpha)
 //   every light contributes f_r * L * cos(theta) (divided by the pdf for area lights).
 //
-// Classic (the lecture's formula L = ka La + sum kd Lj (n.s) + ks Lj (v.r)^n):
+// Classic (Phong's formula L = ka La + sum kd Lj (n.s) + ks Lj (v.r)^n):
 //   point and directional lights contribute (kd cos(theta) + ks cos^n(alpha)) * Lj,
 //   where Lj is the light's irradiance at the point (I/d^2, or E);
-//   area lights use the lecture's area-light shading (Suffern's Matte/Phong
-//   BRDFs): f_r = kd/pi + ks cos^n(alpha), i.e. a Lambertian diffuse part and
+//   area lights use the area-light shading of Suffern's Matte/Phong
+//   BRDFs: f_r = kd/pi + ks cos^n(alpha), i.e. a Lambertian diffuse part and
 //   the unnormalised specular lobe, in the same estimator as the normalized model.
 //
 // Ambient is ka * La in both models.

@@ -1,6 +1,6 @@
 // Sampling the Phong BRDF (Lafortune & Willems 1994): a mixture of the
 // cosine-weighted diffuse lobe and the cos^n lobe about the mirror direction
-// of wo, for both models of shading/phong.h.
+// of wo, for both models of shading/bsdf/phong.h.
 //
 // Directions and normals are unit vectors pointing away from the surface; n is
 // the shading normal (facing wo) and every cosine below is taken with it. The
@@ -19,14 +19,9 @@
 #include "core/color.h"
 #include "core/material.h"
 #include "core/math.h"
+#include "shading/bsdf/bsdf_sample.h"
 
 namespace penumbra {
-
-struct PhongSample {
-    Vec3f wi;   // sampled direction (unit, above the shading surface)
-    Rgb fCos;   // f_r(wo, wi) * cos(theta_i) (phongResponse for an area light)
-    float pdf;  // solid-angle pdf of wi, phongPdf(m, kd, n, wo, wi)
-};
 
 /// Probability of choosing the diffuse lobe: the lobes' share of the
 /// reflected energy (kd against ks, the classic lobe scaled by its integral
@@ -36,7 +31,7 @@ float phongDiffuseProbability(const Material& m, const Rgb& kd);
 /// Samples wi with u in [0,1)^2 (u.x also picks the lobe, then is rescaled).
 /// nullopt when the sample lands below the surface or the material reflects
 /// nothing. kd is the textured diffuse albedo, as for phongResponse.
-std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u);
+std::optional<BsdfSample> samplePhong(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, Vec2f u);
 
 /// samplePhong for many samples at one shading point: what does not depend
 /// on u (the diffuse lobe's probability, the frames about n and about the
@@ -45,14 +40,14 @@ std::optional<PhongSample> samplePhong(const Material& m, const Rgb& kd, const V
 class PhongSampler {
 public:
     PhongSampler(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo);
-    std::optional<PhongSample> sample(Vec2f u) const;
+    std::optional<BsdfSample> sample(Vec2f u) const;
     /// sample() in two steps, for callers that may not need f and the pdf
     /// (a direct-light BRDF sample that meets no light): the direction alone
     /// (nullopt below the surface, or where nothing is reflected), then its
     /// f cos and pdf. sample(u) is direction(u), then evaluate(), dropping a
     /// zero pdf.
     std::optional<Vec3f> direction(Vec2f u) const;
-    PhongSample evaluate(const Vec3f& wi) const;
+    BsdfSample evaluate(const Vec3f& wi) const;
 
     /// Where direction(u) goes, told from u alone before the direction is
     /// made: the lobe u picks and the sample's coordinates in it (the
@@ -125,6 +120,6 @@ float phongPdf(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo
 /// f cos (as phongResponse for an area light) and pdf (as phongPdf) of wi in
 /// one go, with one pow instead of two: what a light sample under MIS needs.
 /// fCos is zero below the surface; wi is returned as given.
-PhongSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi);
+BsdfSample phongEvaluate(const Material& m, const Rgb& kd, const Vec3f& n, const Vec3f& wo, const Vec3f& wi);
 
 }  // namespace penumbra

@@ -1,0 +1,74 @@
+// The material at a shading point as the direct-light estimator and the
+// integrators ask for it. Its smooth lobes (Phong, classic or normalised:
+// phong.h, phong_sampling.h) give f cos and the pdf of a direction and sample
+// directions; a bounce chooses among those lobes, the mirror (mirror.h) and
+// the dielectric (dielectric.h). These functions are the one dispatch on the
+// material's model: a new model is a file in this folder and a case in each.
+// Conventions: shading/shading_point.h (both normals on wo's side).
+#pragma once
+
+#include <optional>
+
+#include "shading/bsdf/bsdf_sample.h"
+#include "shading/bsdf/phong.h"
+#include "shading/bsdf/phong_sampling.h"
+#include "shading/shading_point.h"
+
+namespace penumbra {
+
+/// What multiplies the radiance L of a light sample in direction wi: f cos
+/// for area lights and the environment; for point and directional lights
+/// (deltaLight) the same in the normalised model and the classic Phong
+/// formula in the classic one (shading/bsdf/phong.h). Zero below the shading
+/// surface.
+inline Rgb bsdfResponse(const ShadingPoint& sp, const Vec3f& wi, bool deltaLight) {
+    return phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, wi, deltaLight);
+}
+
+/// f cos of the smooth lobes towards wi and the pdf with which BsdfSampler
+/// draws wi: what a light sample's MIS weight needs.
+inline BsdfSample bsdfEvaluate(const ShadingPoint& sp, const Vec3f& wi) {
+    return phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, wi);
+}
+
+/// Samples of the smooth lobes at one shading point, their set-up shared:
+/// direction(u) alone (nullopt below the surface, or where nothing is
+/// reflected), then evaluate() for f cos and the pdf where they are needed.
+class BsdfSampler {
+public:
+    explicit BsdfSampler(const ShadingPoint& sp) : phong_(*sp.material, sp.kd, sp.ns, sp.wo) {}
+    std::optional<Vec3f> direction(Vec2f u) const { return phong_.direction(u); }
+    BsdfSample evaluate(const Vec3f& wi) const { return phong_.evaluate(wi); }
+    /// The Phong sampler itself, for strategies written for its lobes
+    /// (shading/light_windows.h); nullptr for another model.
+    const PhongSampler* phong() const { return &phong_; }
+
+private:
+    PhongSampler phong_;
+};
+
+/// The probabilities with which a bounce picks each of the material's lobes:
+/// in proportion to their reflectance (kd + ks for the smooth lobes, kr for
+/// the mirror, 1 for glass, which reflects and transmits up to 1). All zero
+/// where nothing scatters.
+struct BsdfLobes {
+    float smooth = 0.f, mirror = 0.f, glass = 0.f;
+    bool any() const { return smooth > 0.f || mirror > 0.f || glass > 0.f; }
+};
+BsdfLobes bsdfLobes(const ShadingPoint& sp);
+
+/// One sampled bounce.
+struct BsdfBounce {
+    Vec3f wi;
+    Rgb weight;        // f cos / pdf, the lobe's probability included
+    float pdf;         // solid-angle pdf, the lobe's probability included; 0 for a delta lobe
+    bool delta;        // the mirror or the dielectric: no light sample can find this direction
+    bool transmitted;  // refracted through a dielectric
+};
+
+/// Samples a bounce with u in [0, 1)^2: u.x picks the lobe, then, rescaled
+/// within the lobe's share, samples it. nullopt where the smooth lobes'
+/// sample lands below the surface or has no density.
+std::optional<BsdfBounce> sampleBsdf(const ShadingPoint& sp, const BsdfLobes& lobes, Vec2f u);
+
+}  // namespace penumbra

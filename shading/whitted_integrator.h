@@ -1,0 +1,72 @@
+// Whitted-style integrator: emission + ambient + Monte Carlo direct lighting
+// from every light at each hit, plus perfect mirror reflection and, at
+// dielectrics, Whitted's transmitted ray beside the mirror ray (Fresnel
+// weights), carried iteratively with a throughput: each lane follows one ray
+// and keeps the other branches on a small stack of its own (no recursion, so
+// any max depth is safe; the stack grows by at most one entry per bounce).
+//
+// Up to the default --max-depth every branch is traced. Beyond it, where the
+// rays a dielectric splits into would multiply without end, a lane follows one
+// of them, picked in proportion to its Fresnel weight, and a branch of low
+// throughput takes Russian roulette: the work then grows with the depth at
+// most as a mirror's does, and the estimate stays unbiased (docs/rendering.md).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "shading/direct_light.h"
+#include "shading/integrator.h"
+#include "shading/surface_shading.h"
+
+namespace penumbra {
+
+/// Path state of one camera sample while a batch of them is shaded.
+struct PathLane;
+
+class WhittedIntegrator final : public Integrator {
+public:
+    /// Bounce depths up to which every branch is traced: the default --max-depth
+    /// (RenderSettings::maxDepth), so that renders at it are exact Whitted.
+    static constexpr int kExactDepth = 10;
+    /// Beyond kExactDepth, a branch whose throughput's largest component is
+    /// below this survives Russian roulette with probability (that
+    /// component / this) and then carries it.
+    static constexpr float kRouletteThroughput = 1.f / 16.f;
+
+    explicit WhittedIntegrator(const IntegratorInputs& in);
+
+    /// The batch is shaded together: the shadow rays of all its shading
+    /// points go out as packets, and so do the mirror rays of each bounce.
+    void radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
+                       std::span<const SampleKey> keys, std::span<Rgb> radiance, std::span<FirstHit> firstHits,
+                       RayCounts& counts) const override;
+
+private:
+    /// radianceBatch's body, compiled for each lane width (core/lane_clones.h).
+    void shadeBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
+                    std::span<const SampleKey> keys, std::span<Rgb> radiance, std::span<FirstHit> firstHits,
+                    RayCounts& counts) const;
+    /// Adds each lane's direct light (times its throughput) to its radiance:
+    /// the lanes that reflect light, as the points of one estimate.
+    void addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth, RayCounts& counts) const;
+    /// addDirectLight for lanes at different bounce depths (dielectrics split lanes).
+    void addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const;
+    /// Sets the lane's next ray after its shading point (mirror, or a dielectric's mirror ray with the
+    /// transmitted one kept pending); false when the branch ends.
+    bool continueLane(PathLane& lane, RayCounts& counts) const;
+    /// continueLane beyond kExactDepth: one continuation, and Russian roulette.
+    bool continueSampled(PathLane& lane, RayCounts& counts) const;
+    /// Makes the lane's last pending ray its current one; false when none is left.
+    bool resumePending(PathLane& lane) const;
+
+    const Scene& scene_;
+    RenderSettings settings_;
+    SurfaceShading surfaces_;
+    DirectLight direct_;
+    bool continues_ = false;  // some material sends rays on (mirror or glass) and the depth allows one
+};
+
+}  // namespace penumbra

@@ -81,8 +81,9 @@ Bounds3f instanceBounds(const Prototype& prototype, const Instance& instance);
 Bounds3f instanceBounds(const Bounds3f& objectBounds, const Transform& worldFromObject);
 
 /// A world-space copy of `mesh` placed by worldFromObject: positions
-/// transformed, normals by the inverse transpose, indices and UVs kept (so its
-/// front side is where the placed instance's is).
+/// transformed, normals by the inverse transpose, tangents as vectors (their
+/// sign flipped by a mirroring transform), indices and UVs kept (so its front
+/// side is where the placed instance's is).
 TriangleMesh placedCopy(const TriangleMesh& mesh, const Transform& worldFromObject);
 
 /// Appends placedCopy of each of the prototype's meshes to `out`, every face

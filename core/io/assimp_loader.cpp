@@ -219,27 +219,6 @@ MtlMaterial phongOf(const aiMaterial& a, const fs::path& file, const Logger& log
     return m;
 }
 
-/// Keeps the vertices that triangles use (positions, normals and UVs alike), in
-/// their order, and renumbers the indices.
-void keepUsedVertices(TriangleMesh& m) {
-    constexpr uint32_t kUnused = UINT32_MAX;
-    std::vector<uint32_t> to(m.positions.size(), kUnused);
-    for (uint32_t i : m.indices) to[i] = 0;
-    uint32_t next = 0;
-    for (uint32_t& t : to)
-        if (t != kUnused) t = next++;
-    auto keep = [&](auto& values) {
-        if (values.size() != to.size()) return;
-        for (size_t v = 0; v < to.size(); ++v)
-            if (to[v] != kUnused) values[to[v]] = values[v];
-        values.resize(next);
-    };
-    keep(m.positions);
-    keep(m.normals);
-    keep(m.uvs);
-    for (uint32_t& i : m.indices) i = to[i];
-}
-
 /// Per-triangle colour from the first vertex-colour set, quantised to 8 bits
 /// so that triangles of one colour share a material.
 std::array<uint8_t, 3> triangleColour(const aiMesh& mesh, const uint32_t* corners) {

@@ -1,7 +1,6 @@
 #include "core/io/model_checks.h"
 
 #include "core/io/fbx_checks.h"
-#include "core/io/gltf_checks.h"
 #include "core/io/nesting_checks.h"
 #include "core/io/off_checks.h"
 #include "core/io/ply_checks.h"
@@ -13,7 +12,6 @@ namespace penumbra {
 std::optional<std::string> modelFileProblem(const std::string& format, const std::string& bytes) {
     if (format == "ply") return plyHeaderProblem(bytes);
     if (format == "stl") return stlTextProblem(bytes);
-    if (format == "gltf" || format == "glb") return gltfProblem(bytes);
     if (format == "off") return offHeaderProblem(bytes);
     if (format == "fbx") return fbxProblem(bytes);
     if (format == "x") return xFileNestingProblem(bytes);

@@ -201,7 +201,7 @@ RenderJob Renderer::renderAsync(const PreparedScene& scene, const Camera& camera
                             state->progress.store(done);
                             if (opts.progress) opts.progress(done);
                         };
-                        accumulate(result.stats, runPass(p, cam, s, fb, first, count, progress, &state->cancel));
+                        result.stats += runPass(p, cam, s, fb, first, count, progress, &state->cancel);
                         if (opts.onPass) opts.onPass(state->image, first + count);
                     }
                 });

@@ -169,10 +169,26 @@ def chromium_paths():
     return (browser, driver) if browser and driver else None
 
 
+def loopback_service(driver):
+    """chromedriver's Selenium service, reached at 127.0.0.1: Selenium says "localhost", which a
+    system without /etc/hosts (CI's pristine Debian root) cannot resolve."""
+    from selenium.webdriver.chrome.service import Service
+    from selenium.webdriver.common import utils
+
+    class LoopbackService(Service):
+        @property
+        def service_url(self):
+            return f"http://127.0.0.1:{self.port}"
+
+        def is_connectable(self):
+            return utils.is_connectable(self.port, "127.0.0.1")
+
+    return LoopbackService(executable_path=driver)
+
+
 def chromium(profile_dir, width=1000, height=900):
     """Headless Chromium through Selenium, with a profile of its own; offline (the page needs nothing else)."""
     from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
     browser, driver = chromium_paths()
     options = webdriver.ChromeOptions()
     options.binary_location = browser
@@ -181,4 +197,4 @@ def chromium(profile_dir, width=1000, height=900):
                  f"--window-size={width},{height}", f"--user-data-dir={profile_dir}",
                  "--no-first-run", "--disable-extensions", "--disable-background-networking"]:
         options.add_argument(flag)
-    return webdriver.Chrome(service=Service(executable_path=driver), options=options)
+    return webdriver.Chrome(service=loopback_service(driver), options=options)

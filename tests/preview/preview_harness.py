@@ -186,15 +186,53 @@ def loopback_service(driver):
     return LoopbackService(executable_path=driver)
 
 
+def start_chromium(browser, profile_dir, width, height, timeout=60):
+    """Headless Chromium with its DevTools port on 127.0.0.1: (process, port). Started here rather
+    than by chromedriver, which would reach it as "localhost" (unresolvable without /etc/hosts)."""
+    profile_dir.mkdir(parents=True, exist_ok=True)
+    # --no-sandbox: the tests may run as root (CI's pristine Debian root); the page is our own.
+    flags = ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--disable-gpu",
+             f"--window-size={width},{height}", f"--user-data-dir={profile_dir}", "--remote-debugging-port=0",
+             "--remote-debugging-address=127.0.0.1", "--no-first-run", "--disable-extensions",
+             "--disable-background-networking"]
+    process = subprocess.Popen([browser, *flags, "about:blank"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    port_file = profile_dir / "DevToolsActivePort"  # Chromium writes its port there once it listens
+    deadline = time.monotonic() + timeout
+    while not (port_file.exists() and port_file.read_text().strip()):
+        if process.poll() is not None or time.monotonic() > deadline:
+            process.kill()
+            process.wait()
+            raise AssertionError(f"{browser} did not open its DevTools port (exit {process.returncode})")
+        time.sleep(0.05)
+    return process, int(port_file.read_text().split()[0])
+
+
 def chromium(profile_dir, width=1000, height=900):
-    """Headless Chromium through Selenium, with a profile of its own; offline (the page needs nothing else)."""
+    """Headless Chromium driven through Selenium, with a profile of its own; offline (the page needs
+    nothing else). quit() ends the browser too."""
     from selenium import webdriver
     browser, driver = chromium_paths()
-    options = webdriver.ChromeOptions()
-    options.binary_location = browser
-    # --no-sandbox: the tests may run as root (CI's pristine Debian root); the page is our own.
-    for flag in ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--disable-gpu",
-                 f"--window-size={width},{height}", f"--user-data-dir={profile_dir}",
-                 "--no-first-run", "--disable-extensions", "--disable-background-networking"]:
-        options.add_argument(flag)
-    return webdriver.Chrome(service=loopback_service(driver), options=options)
+    process, port = start_chromium(browser, profile_dir, width, height)
+    try:
+        options = webdriver.ChromeOptions()
+        options.debugger_address = f"127.0.0.1:{port}"
+        session = webdriver.Chrome(service=loopback_service(driver), options=options)
+    except BaseException:
+        process.kill()
+        process.wait()
+        raise
+    quit_session = session.quit
+
+    def quit():
+        try:
+            quit_session()
+        finally:
+            process.terminate()
+            try:
+                process.wait(10)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+    session.quit = quit
+    return session

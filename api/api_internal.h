@@ -147,8 +147,6 @@ Matrix3x4 out(const pn::Transform& t);
 RenderSettings settingsFrom(const pn::SettingsPatch& patch);
 /// The scene's camera, else one framing `bounds`.
 Camera defaultCameraFor(const std::optional<pn::CameraDesc>& cam, const pn::Bounds3f& bounds, float aspect, float vfov);
-/// Adds a pass's counts to a job's total.
-void accumulate(RenderStats& total, const RenderStats& pass);
 
 /// The prepared data behind a handle; throws for an empty one.
 const PreparedImpl& requirePrepared(const PreparedScene& p);

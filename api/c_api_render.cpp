@@ -1,7 +1,20 @@
 // The C API's framebuffers, renders and asynchronous jobs (see api/c_api.cpp).
 #include "api/c_api_internal.h"
 
+#include <cstdlib>
+
 using namespace pnb::c_api;
+
+namespace {
+pnb::ImageOptions imageOptions(const pnb_image_options* options) {
+    pnb::ImageOptions o;
+    if (options) {
+        o.exposure = options->exposure;
+        o.aovs = options->aovs != 0;
+    }
+    return o;
+}
+}  // namespace
 
 extern "C" {
 
@@ -81,14 +94,30 @@ pnb_status pnb_framebuffer_write_image(const pnb_framebuffer* image, const char*
     return guard(image ? &image->error : nullptr, "pnb_framebuffer_write_image", [&] {
         need(image, "framebuffer");
         need(path, "path");
-        pnb::ImageOptions o;
-        if (options) {
-            o.exposure = options->exposure;
-            o.aovs = options->aovs != 0;
-        }
-        image->get().writeImage(path, o);
+        image->get().writeImage(path, imageOptions(options));
     });
 }
+
+pnb_status pnb_framebuffer_encode_image(const pnb_framebuffer* image, const char* format,
+                                        const pnb_image_options* options, uint8_t** out_data, size_t* out_size) {
+    if (out_data) *out_data = nullptr;
+    if (out_size) *out_size = 0;
+    return guard(image ? &image->error : nullptr, "pnb_framebuffer_encode_image", [&] {
+        need(image, "framebuffer");
+        need(format, "format");
+        need(out_data, "out_data");
+        need(out_size, "out_size");
+        const std::vector<std::uint8_t> bytes = image->get().encodeImage(format, imageOptions(options));
+        // malloc'd, so that a host in C frees it without knowing C++ (pnb_bytes_free).
+        auto* data = static_cast<uint8_t*>(std::malloc(bytes.empty() ? 1 : bytes.size()));
+        if (!data) throw std::bad_alloc();
+        std::memcpy(data, bytes.data(), bytes.size());
+        *out_data = data;
+        *out_size = bytes.size();
+    });
+}
+
+void pnb_bytes_free(uint8_t* data) { std::free(data); }
 
 // ---------------------------------------------------------------- rendering
 

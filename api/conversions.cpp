@@ -46,24 +46,6 @@ Camera defaultCameraFor(const std::optional<pn::CameraDesc>& cam, const pn::Boun
     return pn::frameBounds(bounds, vfov, aspect);
 }
 
-void accumulate(RenderStats& total, const RenderStats& pass) {
-    total.cameraRays += pass.cameraRays;
-    total.shadowRays += pass.shadowRays;
-    total.reflectionRays += pass.reflectionRays;
-    total.invalidRays += pass.invalidRays;
-    total.nonFiniteSamples += pass.nonFiniteSamples;
-    total.renderSeconds += pass.renderSeconds;
-    total.transmissionRays += pass.transmissionRays;
-    total.indirectRays += pass.indirectRays;
-    total.pathLengthSum += pass.pathLengthSum;
-    total.pathLengthMax = std::max(total.pathLengthMax, pass.pathLengthMax);
-    total.brdfRays += pass.brdfRays;
-    const double rays = double(total.totalRays());
-    total.mraysPerSecond = total.renderSeconds > 0 ? rays / total.renderSeconds * 1e-6 : 0.0;
-    total.samplesPerPixel = pass.samplesPerPixel;
-    total.threads = pass.threads;
-}
-
 const PreparedImpl& requirePrepared(const PreparedScene& p) {
     const PreparedImpl* impl = Access::of(p);
     require(impl != nullptr, "the prepared scene is empty (use Renderer::prepare)");

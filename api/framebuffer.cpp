@@ -223,22 +223,43 @@ Framebuffer Framebuffer::deserialize(const std::uint8_t* data, std::size_t size)
     return f;
 }
 
+namespace {
+// What writeImage and encodeImage both write: the pixels' place in the full
+// frame (a crop's EXR records it) and the metadata.
+pn::ImageWriteOptions writeOptions(const FramebufferImpl& impl, const ImageOptions& options, const std::string& name) {
+    require(impl.film.width() > 0, name + ": cannot write an empty framebuffer");
+    require(std::isfinite(options.exposure), name + ": exposure must be finite");
+    pn::ImageWriteOptions wo;
+    wo.exposure = options.exposure;
+    wo.aovs = options.aovs;
+    const pn::CropWindow& w = impl.film.window();
+    wo.dataOriginX = w.x0;
+    wo.dataOriginY = w.y0;
+    wo.fullWidth = impl.film.fullWidth();
+    wo.fullHeight = impl.film.fullHeight();
+    wo.metadata = pn::ImageMetadata{int(impl.film.sampleCount()), impl.seed, impl.renderSeconds,
+                                    std::string("Penumbra ") + PENUMBRA_VERSION};
+    return wo;
+}
+}  // namespace
+
 void Framebuffer::writeImage(const std::string& path, const ImageOptions& options) const {
-    guarded([&] {
-        require(impl_->film.width() > 0, path + ": cannot write an empty framebuffer");
-        require(std::isfinite(options.exposure), path + ": exposure must be finite");
-        pn::ImageWriteOptions wo;
-        wo.exposure = options.exposure;
-        wo.aovs = options.aovs;
-        // A crop's EXR says where its pixels lie in the full frame.
-        const pn::CropWindow& w = impl_->film.window();
-        wo.dataOriginX = w.x0;
-        wo.dataOriginY = w.y0;
-        wo.fullWidth = impl_->film.fullWidth();
-        wo.fullHeight = impl_->film.fullHeight();
-        wo.metadata = pn::ImageMetadata{int(impl_->film.sampleCount()), impl_->seed, impl_->renderSeconds,
-                                        std::string("Penumbra ") + PENUMBRA_VERSION};
-        pn::writeImage(path, impl_->film, wo);
+    guarded([&] { pn::writeImage(path, impl_->film, writeOptions(*impl_, options, path)); });
+}
+
+std::vector<std::uint8_t> Framebuffer::encodeImage(const std::string& format, const ImageOptions& options) const {
+    return guarded([&] {
+        std::string ext = format.empty() || format[0] != '.' ? "." + format : format;
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        pn::ImageFormat f{};
+        try {
+            f = pn::imageFormatFromPath("image" + ext);
+        } catch (const Error&) {
+            fail(ErrorCode::InvalidArgument, "encodeImage: unknown image format '" + format +
+                                                 "' (expected exr, hdr, pfm, png, jpg or tif)");
+        }
+        const std::string name = "encodeImage(" + ext.substr(1) + ")";
+        return pn::encodeImage(f, impl_->film, writeOptions(*impl_, options, name), name);
     });
 }
 

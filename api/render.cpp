@@ -223,7 +223,7 @@ RenderJob Renderer::renderAsync(const PreparedScene& scene, const Camera& camera
                                 opts.progress(done);
                             }
                         };
-                        accumulate(result.stats, runPass(p, cam, s, fb, first, count, progress, &state->cancel));
+                        result.stats += runPass(p, cam, s, fb, first, count, progress, &state->cancel);
                         if (opts.onPass) {
                             const InCallback in(state.get());
                             opts.onPass(state->image, first + count);

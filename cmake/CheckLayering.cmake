@@ -11,8 +11,9 @@
 #   <- apps points one way. The public headers (api/include/penumbra/) include
 #   only the standard library and each other; below api/ only
 #   <penumbra/types.hpp> (the value types, std-only) may be included, never the
-#   facade; the penumbra CLI (apps/penumbra/) and penumbra-mpi (apps/mpi/)
-#   include only public headers, like any other host.
+#   facade; the penumbra CLI (apps/penumbra/, its preview in apps/penumbra/preview/)
+#   and penumbra-mpi (apps/mpi/) include only public headers, like any other
+#   host; CivetWeb only in apps/penumbra/preview/preview_server.cpp.
 # Usage: cmake -DSOURCE_DIR=<repo> -P CheckLayering.cmake
 file(GLOB_RECURSE _files RELATIVE ${SOURCE_DIR}
      ${SOURCE_DIR}/core/*.h ${SOURCE_DIR}/core/*.hpp ${SOURCE_DIR}/core/*.cpp
@@ -21,6 +22,7 @@ file(GLOB_RECURSE _files RELATIVE ${SOURCE_DIR}
      ${SOURCE_DIR}/shading/*.h ${SOURCE_DIR}/shading/*.cpp
      ${SOURCE_DIR}/api/*.h ${SOURCE_DIR}/api/*.hpp ${SOURCE_DIR}/api/*.cpp
      ${SOURCE_DIR}/apps/penumbra/*.h ${SOURCE_DIR}/apps/penumbra/*.cpp
+     ${SOURCE_DIR}/apps/penumbra/preview/*.h ${SOURCE_DIR}/apps/penumbra/preview/*.cpp
      ${SOURCE_DIR}/apps/mpi/*.h ${SOURCE_DIR}/apps/mpi/*.cpp)
 set(_errors "")
 foreach(_f IN LISTS _files)
@@ -82,6 +84,9 @@ foreach(_f IN LISTS _files)
     endif()
     if(_f STREQUAL "api/include/penumbra/types.hpp" AND _line MATCHES "<penumbra/")
       list(APPEND _errors "${_f}: the value types include only the standard library: ${_line}")
+    endif()
+    if(_line MATCHES "civetweb\\.h|CivetServer\\.h" AND NOT _f STREQUAL "apps/penumbra/preview/preview_server.cpp")
+      list(APPEND _errors "${_f}: includes CivetWeb outside apps/penumbra/preview/preview_server.cpp")
     endif()
     if(_f MATCHES "^apps/(penumbra|mpi)/" AND _line MATCHES "\"(core|accel|lights|shading|api)/")
       list(APPEND _errors "${_f}: the CLI uses the public API only: ${_line}")

@@ -119,8 +119,8 @@ Bytes encodeAovExr(const fs::path& path, const Film& film, const ImageWriteOptio
     return encodeWithOiio(path, rq);
 }
 
-// The whole file's bytes in memory, for every format.
-Bytes encodeImage(const fs::path& path, ImageFormat fmt, const Film& film, const ImageWriteOptions& options) {
+// The whole file's bytes in memory, for every format (radiance only).
+Bytes encodeRadiance(const fs::path& path, ImageFormat fmt, const Film& film, const ImageWriteOptions& options) {
     if (fmt == ImageFormat::Pfm) return encodePfm(film);
     const int w = film.width(), h = film.height();
     oiio::EncodeRequest rq;
@@ -204,26 +204,31 @@ void checkWritable(const fs::path& path) {
         throw Error(ErrorCode::IoError, path.string() + ": cannot write image: folder '" + dir.string() + "' is not writable");
 }
 
+Bytes encodeImage(ImageFormat format, const Film& film, const ImageWriteOptions& options, const std::string& name) {
+    if (!options.aovs || !film.hasAovs()) return encodeRadiance(name, format, film, options);
+    if (format != ImageFormat::Exr)
+        throw Error(ErrorCode::InvalidArgument, name + ": AOVs are encoded only as the channels of an EXR image");
+    return encodeAovExr(name, film, options, true);
+}
+
 void writeImage(const fs::path& path, const Film& film, const ImageWriteOptions& options) {
     const ImageFormat fmt = imageFormatFromPath(path);
     // Everything is encoded before anything is written, and every file is
     // complete on disk (as a temporary) before any is renamed into place, so a
     // failure leaves the old images (main and AOV sibling) as they were.
-    if (fmt == ImageFormat::Exr && options.aovs && film.hasAovs()) {
-        writeFileAtomically(path, encodeAovExr(path, film, options, true), "image");
+    if (fmt == ImageFormat::Exr || !options.aovs || !film.hasAovs()) {
+        writeFileAtomically(path, encodeImage(fmt, film, options, path.string()), "image");
         return;
     }
-    const Bytes main = encodeImage(path, fmt, film, options);
-    if (options.aovs && film.hasAovs()) {
-        const fs::path aovPath = path.parent_path() / (path.stem().string() + ".aovs.exr");
-        const Bytes aovs = encodeAovExr(aovPath, film, options, false);
-        StagedFile stagedAovs(aovPath, aovs, "image");
-        StagedFile stagedMain(path, main, "image");
-        stagedAovs.commit();
-        stagedMain.commit();
-        return;
-    }
-    writeFileAtomically(path, main, "image");
+    // Other formats have no room for AOVs: they go to a sibling EXR, and both
+    // files are complete before either is renamed.
+    const Bytes main = encodeRadiance(path, fmt, film, options);
+    const fs::path aovPath = path.parent_path() / (path.stem().string() + ".aovs.exr");
+    const Bytes aovs = encodeAovExr(aovPath, film, options, false);
+    StagedFile stagedAovs(aovPath, aovs, "image");
+    StagedFile stagedMain(path, main, "image");
+    stagedAovs.commit();
+    stagedMain.commit();
 }
 
 ImageData readImage(const fs::path& path) {

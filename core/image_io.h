@@ -49,6 +49,12 @@ struct ImageWriteOptions {
 /// can end the process (JPEG over 65500 pixels a side is refused up front).
 void writeImage(const std::filesystem::path& path, const Film& film, const ImageWriteOptions& options);
 
+/// The bytes writeImage would write for a file of `format`, encoded in
+/// memory (with options.aovs, EXR gets the AOV channels; other formats have
+/// no room for them: Error(InvalidArgument)). `name` names the image in errors.
+std::vector<unsigned char> encodeImage(ImageFormat format, const Film& film, const ImageWriteOptions& options,
+                                       const std::string& name);
+
 /// Throws Error(InvalidArgument/IoError) if `path` cannot be written (folder
 /// missing or not writable, unknown format). Used to check options before rendering.
 void checkWritable(const std::filesystem::path& path);

@@ -12,6 +12,8 @@ packages=(
   gnuplot-nox
   clang libclang-rt-14-dev
   libopenmpi-dev openmpi-bin
+  libcivetweb-dev                           # the web server of penumbra --preview
+  chromium chromium-driver python3-selenium # the preview's test in a real browser
 )
 
 missing=()

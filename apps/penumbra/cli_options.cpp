@@ -75,7 +75,7 @@ CLI::Option* addParsed(CLI::App& app, const std::string& name, std::optional<T>&
 
 void addImageOptions(CLI::App& app, Options& o) {
     app.add_option("scene", o.scene, "Scene file (.json, .obj, or a model: .ply .stl .gltf .glb .fbx .dae ...)")->required();
-    app.add_option("-o,--output", o.output, "Output image (.exr .hdr .pfm .png .jpg .tif)")->required();
+    app.add_option("-o,--output", o.output, "Output image (.exr .hdr .pfm .png .jpg .tif); optional with --preview");
     app.add_option("--width", o.width, "Image width in pixels");
     app.add_option("--height", o.height, "Image height in pixels");
     addParsed(app, "--crop", o.crop, parseCrop, "Render only the window x0,y0,x1,y1 of the full frame");
@@ -159,6 +159,25 @@ void addSceneOptions(CLI::App& app, Options& o) {
         ->check(finiteNumber("must lie in [0, 180] degrees", CLI::Range(0.0, 180.0)));
 }
 
+void addPreviewOptions(CLI::App& app, Options& o) {
+    app.add_flag("--preview", o.preview,
+                 "Serve a live view of the render on 127.0.0.1 (orbit, zoom and pan restart it); prints its address");
+    app.add_option("--preview-port", o.previewPort, "Port of the --preview server (default 0: a free port)")
+        ->check(CLI::Range(0, 65535));
+    app.add_flag("--preview-exit", o.previewExit,
+                 "With --preview: exit when the render completes instead of serving the final image until Ctrl-C");
+}
+
+// What one option asks of another, once all are parsed.
+void checkCombinations(const Options& o) {
+    if (o.envRotate && !o.envImage) throw CLI::ValidationError("--env-rotate", "needs --env FILE (an image)");
+    if (!o.preview && (o.previewPort != 0 || o.previewExit))
+        throw CLI::ValidationError(o.previewExit ? "--preview-exit" : "--preview-port", "needs --preview");
+    if (o.output.empty() && !o.preview) throw CLI::RequiredError("--output");
+    if (o.output.empty() && !o.statsJson.empty())
+        throw CLI::ValidationError("--stats-json", "describes the image -o writes: give -o too");
+}
+
 }  // namespace
 
 int reportUsageError(const std::string& message, const char* program) {
@@ -169,7 +188,7 @@ int reportUsageError(const std::string& message, const char* program) {
     return 2;
 }
 
-ParseResult parseCommandLine(int argc, char** argv, const char* program) {
+ParseResult parseCommandLine(int argc, char** argv, const char* program, bool previewOptions) {
     CLI::App app{"penumbra: render a scene (JSON, OBJ/MTL, or a model Assimp reads: PLY, STL, glTF, FBX, COLLADA, ...) "
                  "with Embree-accelerated Whitted ray tracing or path tracing"};
     // As most Unix tools: a repeated option takes its last value (aliases and wrappers add defaults before the user's).
@@ -178,9 +197,10 @@ ParseResult parseCommandLine(int argc, char** argv, const char* program) {
     addImageOptions(app, o);
     addSamplingOptions(app, o);
     addSceneOptions(app, o);
+    if (previewOptions) addPreviewOptions(app, o);
     try {
         app.parse(argc, argv);
-        if (o.envRotate && !o.envImage) throw CLI::ValidationError("--env-rotate", "needs --env FILE (an image)");
+        checkCombinations(o);
     } catch (const CLI::ParseError& e) {
         // --help ends the program successfully; anything else is a usage error:
         // one line, and exit code 2 (CLI11's own codes run from 100 to 115).

@@ -41,6 +41,10 @@ struct Options {
     std::optional<pnb::PhongModel> model;                   // --model: materials of mesh and model files
     std::optional<float> smoothAngle;                       // --smooth-angle: degrees, [0, 180]
     std::optional<pnb::DirectLightSampling> directLight;
+    // --preview (penumbra only): a live view in the browser (preview/); -o is then optional.
+    bool preview = false;
+    int previewPort = 0;       // --preview-port: 0 = a free port
+    bool previewExit = false;  // --preview-exit: end when the render completes instead of serving on
 };
 
 /// A bad command-line value found after parsing (checked against the
@@ -55,11 +59,12 @@ int reportUsageError(const std::string& message, const char* program = "penumbra
 
 /// Parses argv; a repeated option takes its last value. Returns the options,
 /// or an exit code when parsing ended the program (help printed: 0; usage
-/// error or bad option value printed, as `program`: 2).
+/// error or bad option value printed, as `program`: 2). `previewOptions`:
+/// the command offers --preview and its options (penumbra does, penumbra-mpi not).
 struct ParseResult {
     std::optional<Options> options;
     int exitCode = 0;
 };
-ParseResult parseCommandLine(int argc, char** argv, const char* program = "penumbra");
+ParseResult parseCommandLine(int argc, char** argv, const char* program = "penumbra", bool previewOptions = false);
 
 }  // namespace penumbra::cli

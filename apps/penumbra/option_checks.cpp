@@ -30,7 +30,7 @@ void precheckOptions(const Options& o) {
     pnb::Scene probe;
     applyLightOptions(o, probe);
     try {
-        pnb::checkImagePath(o.output.string());
+        if (!o.output.empty()) pnb::checkImagePath(o.output.string());
     } catch (const Error& e) {
         if (e.code() == ErrorCode::InvalidArgument) throw UsageError(std::string("-o: ") + e.what());  // not an image format
         throw;

@@ -47,7 +47,9 @@ bool isExr(const fs::path& p) {
 }
 
 std::vector<OutputFile> outputsOf(const Options& o) {
-    std::vector<OutputFile> out{{o.output, "-o"}};
+    std::vector<OutputFile> out;
+    if (o.output.empty()) return out;  // --preview without -o writes nothing
+    out.push_back({o.output, "-o"});
     if (o.aovs && !isExr(o.output))
         out.push_back({o.output.parent_path() / (o.output.stem().string() + ".aovs.exr"), "-o (its AOV image)"});
     if (!o.statsJson.empty()) out.push_back({o.statsJson, "--stats-json"});
@@ -55,7 +57,7 @@ std::vector<OutputFile> outputsOf(const Options& o) {
 }
 
 void precheckOutputs(const Options& o) {
-    pnb::checkImagePath(o.output.string());
+    if (!o.output.empty()) pnb::checkImagePath(o.output.string());
     if (!o.statsJson.empty()) {
         auto dir = o.statsJson.parent_path().empty() ? fs::path(".") : o.statsJson.parent_path();
         if (!fs::is_directory(dir))

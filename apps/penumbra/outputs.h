@@ -21,7 +21,7 @@ namespace penumbra::cli {
 bool isExr(const std::filesystem::path& p);
 
 /// What the command writes: -o, its `<stem>.aovs.exr` sibling (AOVs with a
-/// format other than EXR), --stats-json.
+/// format other than EXR), --stats-json; nothing for --preview without -o.
 std::vector<OutputFile> outputsOf(const Options& o);
 
 /// Before any work: the image path is writable in principle, the statistics'

@@ -1,5 +1,6 @@
 // penumbra: the command-line renderer.
 //   penumbra SCENE.{json,obj,ply,stl,gltf,glb,fbx,dae,...} -o OUT.{exr,hdr,pfm,png,jpg,tif} [options]
+//   penumbra SCENE --preview [-o OUT] [options]   (a live view in the browser)
 // Exit code 0 on success; 1 with a one-line error naming the file and the
 // problem otherwise; 2 for command-line usage errors and bad option values
 // (one line ending "(see --help)"); 130 when interrupted.
@@ -20,6 +21,8 @@
 #include "cli_options.h"
 #include "option_checks.h"
 #include "outputs.h"
+#include "preview_render.h"
+#include "preview_server.h"
 #include "progress_reporter.h"
 #include "render_setup.h"
 
@@ -120,36 +123,88 @@ std::optional<pnb::RenderStats> renderImage(const Options& o, const pnb::Rendere
     }
 }
 
-// `step` names what runs now, as the message for running out of memory (which
-// says nothing about where).
+// The scene loaded and prepared as the command line says. `step` names what
+// runs now, as the message for running out of memory (which says nothing about where).
+struct PreparedJob {
+    LoadedScene job;
+    pnb::PreparedScene prepared;
+};
+
+PreparedJob loadAndPrepare(const Options& o, const pnb::Renderer& renderer, std::string& step) {
+    step = o.scene.string() + ": out of memory while loading the scene";
+    LoadedScene job = loadForRender(o, renderer, "penumbra", true);
+    step = o.scene.string() + ": out of memory while preparing the scene (acceleration structure, lights, textures)";
+    pnb::PreparedScene prepared = prepareForRender(o, renderer, std::move(job.scene));
+    step = "out of memory while rendering a " + std::to_string(job.settings.width) + "x" +
+           std::to_string(job.settings.height) + " image";
+    return {std::move(job), std::move(prepared)};
+}
+
+// -o (and --stats-json) of a finished render, and the summary.
+void writeAndReport(const Options& o, const PreparedJob& p, const pnb::Framebuffer& image,
+                    const pnb::RenderStats& stats, Clock::time_point t0, std::string& step) {
+    step = o.output.string() + ": out of memory while writing the image";
+    const double total = secondsSince(t0);
+    writeOutputs(o, image, [&] { return statisticsJson(o, p.job.settings, p.prepared, stats, total); });
+    if (!o.quiet) printSummary(o, p.prepared, stats, image, p.job.settings.spp, secondsSince(t0));
+}
+
 int runSteps(const Options& o, std::string& step) {
     const auto t0 = Clock::now();
     precheckOptions(o);
     pnb::Renderer renderer;  // warnings and errors to stderr
-    step = o.scene.string() + ": out of memory while loading the scene";
-    LoadedScene job = loadForRender(o, renderer, "penumbra", true);
-    step = o.scene.string() + ": out of memory while preparing the scene (acceleration structure, lights, textures)";
-    const pnb::PreparedScene prepared = prepareForRender(o, renderer, std::move(job.scene));
-
-    step = "out of memory while rendering a " + std::to_string(job.settings.width) + "x" +
-           std::to_string(job.settings.height) + " image";
-    pnb::Framebuffer image(job.settings);
-    const std::optional<pnb::RenderStats> stats = renderImage(o, renderer, prepared, job, image);
+    const PreparedJob p = loadAndPrepare(o, renderer, step);
+    pnb::Framebuffer image(p.job.settings);
+    const std::optional<pnb::RenderStats> stats = renderImage(o, renderer, p.prepared, p.job, image);
     if (!stats) {
         std::fprintf(stderr, "penumbra: interrupted; no image written\n");
         return 130;
     }
-    step = o.output.string() + ": out of memory while writing the image";
-    const double total = secondsSince(t0);
-    writeOutputs(o, image, [&] { return statisticsJson(o, job.settings, prepared, *stats, total); });
-    if (!o.quiet) printSummary(o, prepared, *stats, image, job.settings.spp, secondsSince(t0));
+    writeAndReport(o, p, image, *stats, t0, step);
     return 0;
+}
+
+// --preview: the same set-up behind a live view in the browser (preview/),
+// served from before the scene loads; every view rendered to the end is
+// written as -o. Runs until Ctrl-C, or with --preview-exit until a view completes.
+int runPreviewSteps(const Options& o, std::string& step) {
+    const auto t0 = Clock::now();
+    precheckOptions(o);
+    preview::PreviewState state(o.scene.filename().string());
+    const preview::PreviewServer server(state, o.previewPort);
+    std::fprintf(stderr, "preview: http://127.0.0.1:%d/\n", server.port());
+    std::fflush(stderr);
+    pnb::Renderer renderer;
+    const PreparedJob p = loadAndPrepare(o, renderer, step);
+    state.start(p.job.settings, p.job.camera, o.exposure);
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    bool written = false;
+    const auto onComplete = [&](const pnb::Framebuffer& image, const pnb::Camera&, const pnb::RenderStats& stats) {
+        if (!o.output.empty()) {
+            const std::string rendering = step;
+            writeAndReport(o, p, image, stats, t0, step);
+            step = rendering;  // the render goes on with the next view
+            written = true;
+        }
+        if (!o.quiet && !o.previewExit)
+            std::fprintf(stderr, "penumbra: preview: render complete; serving its image until Ctrl-C (moving the camera "
+                                 "renders again)\n");
+    };
+    const preview::PreviewEnd end =
+        preview::renderPreview({renderer, p.prepared, p.job.settings}, state, gInterrupted, o.previewExit, onComplete);
+    if (end == preview::PreviewEnd::Completed) return 0;
+    if (written)
+        std::fprintf(stderr, "penumbra: interrupted; %s holds the last view rendered to the end\n", o.output.string().c_str());
+    else
+        std::fprintf(stderr, "penumbra: interrupted; no image written\n");
+    return 130;
 }
 
 int run(const Options& o) {
     std::string step = "out of memory while checking the options";
     try {
-        return runSteps(o, step);
+        return o.preview ? runPreviewSteps(o, step) : runSteps(o, step);
     } catch (const std::bad_alloc&) {
         throw Error(ErrorCode::OutOfMemory, step);
     } catch (const Error& e) {
@@ -166,7 +221,7 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
     using namespace penumbra;
     try {
-        auto parsed = cli::parseCommandLine(argc, argv);
+        auto parsed = cli::parseCommandLine(argc, argv, "penumbra", true);
         if (!parsed.options) return parsed.exitCode;
         return cli::run(*parsed.options);
     } catch (const cli::UsageError& e) {

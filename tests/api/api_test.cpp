@@ -318,6 +318,49 @@ TEST(ApiRender, WritesImagesThroughTheLibrary) {
     EXPECT_NE(msg.find("unknown image format"), std::string::npos) << msg;
 }
 
+std::string fileBytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(ApiRender, EncodesInMemoryTheBytesWriteImageWrites) {
+    const pnb::Framebuffer image = litSphereImage(33, 4);
+    const auto dir = penumbra::test::tempDir();
+    pnb::ImageOptions options;
+    options.exposure = 0.5f;
+    for (const char* format : {"png", "jpg", "exr", "pfm", "hdr", "tif"}) {
+        const std::filesystem::path path = dir / (std::string("sphere.") + format);
+        image.writeImage(path.string(), options);
+        const std::vector<std::uint8_t> bytes = image.encodeImage(format, options);
+        EXPECT_EQ(std::string(bytes.begin(), bytes.end()), fileBytes(path)) << format;
+    }
+    // Any case, with or without the dot.
+    EXPECT_EQ(image.encodeImage(".PNG", options), image.encodeImage("png", options));
+    std::string msg;
+    EXPECT_EQ(codeOf([&] { (void)image.encodeImage("bmp"); }, &msg), pnb::ErrorCode::InvalidArgument);
+    EXPECT_NE(msg.find("unknown image format 'bmp'"), std::string::npos) << msg;
+    EXPECT_EQ(codeOf([&] { (void)pnb::Framebuffer().encodeImage("png"); }, &msg), pnb::ErrorCode::InvalidArgument);
+    EXPECT_NE(msg.find("empty framebuffer"), std::string::npos) << msg;
+}
+
+TEST(ApiRender, EncodesAovsOnlyAsExrChannels) {
+    const pnb::Renderer renderer = quietRenderer();
+    pnb::RenderSettings st;
+    st.width = st.height = 17;
+    st.spp = 2;
+    st.aovs = true;
+    const pnb::Framebuffer image = renderer.render(renderer.prepare(litSphere()), sphereCamera(), st);
+    pnb::ImageOptions options;
+    options.aovs = true;
+    const auto dir = penumbra::test::tempDir();
+    image.writeImage((dir / "aovs.exr").string(), options);
+    const std::vector<std::uint8_t> exr = image.encodeImage("exr", options);
+    EXPECT_EQ(std::string(exr.begin(), exr.end()), fileBytes(dir / "aovs.exr"));
+    std::string msg;
+    EXPECT_EQ(codeOf([&] { (void)image.encodeImage("png", options); }, &msg), pnb::ErrorCode::InvalidArgument);
+    EXPECT_NE(msg.find("only as the channels of an EXR"), std::string::npos) << msg;
+}
+
 // A texture for the tests below, written into dir as texture.png: a render
 // of its own, a lit sphere (the brighter texels) on a blue background.
 std::string writeSphereTexture(const pnb::Renderer& renderer, const std::filesystem::path& dir) {

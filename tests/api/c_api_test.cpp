@@ -6,6 +6,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <penumbra/penumbra.h>
 #include <penumbra/penumbra.hpp>
 #include <string>
@@ -277,6 +279,21 @@ TEST(CApi, RendersTheExpectedRadianceAndWritesImages) {
     const std::string nowhere = (dir / "no" / "c.png").string();
     EXPECT_EQ(pnb_framebuffer_write_image(f.image, nowhere.c_str(), nullptr), PNB_ERROR_IO);
     EXPECT_NE(lastError().find(nowhere), std::string::npos) << lastError();
+    // In memory: the same bytes as the file, in a buffer the host frees.
+    uint8_t* data = nullptr;
+    size_t size = 0;
+    ASSERT_EQ(pnb_framebuffer_encode_image(f.image, "png", nullptr, &data, &size), PNB_OK);
+    std::ifstream written(png, std::ios::binary);
+    const std::string file((std::istreambuf_iterator<char>(written)), {});
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(data), size), file);
+    pnb_bytes_free(data);
+    pnb_bytes_free(nullptr);
+    EXPECT_EQ(pnb_framebuffer_encode_image(f.image, "gif", nullptr, &data, &size), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(data, nullptr);
+    EXPECT_EQ(size, 0u);
+    EXPECT_NE(std::string(pnb_framebuffer_last_error(f.image)).find("unknown image format 'gif'"), std::string::npos);
+    EXPECT_EQ(pnb_framebuffer_encode_image(f.image, "png", nullptr, nullptr, &size), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(pnb_framebuffer_encode_image(nullptr, "png", nullptr, &data, &size), PNB_ERROR_INVALID_ARGUMENT);
 }
 
 TEST(CApi, SameImageAsTheCppApi) {

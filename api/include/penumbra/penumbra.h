@@ -335,6 +335,14 @@ PNB_API pnb_status pnb_framebuffer_clear(pnb_framebuffer* image);
 /* .exr/.hdr/.pfm linear; .png/.jpg/.tif exposure-scaled and sRGB-encoded (options NULL: defaults). */
 PNB_API pnb_status pnb_framebuffer_write_image(const pnb_framebuffer* image, const char* path,
                                                const pnb_image_options* options);
+/* The bytes pnb_framebuffer_write_image would write to a file of `format` ("png", "jpg", "exr", "hdr",
+ * "pfm", "tif"), encoded in memory: *out_data (free it with pnb_bytes_free) and *out_size. With
+ * options->aovs only "exr" holds the AOVs; other formats are PNB_ERROR_INVALID_ARGUMENT. */
+PNB_API pnb_status pnb_framebuffer_encode_image(const pnb_framebuffer* image, const char* format,
+                                                const pnb_image_options* options, uint8_t** out_data,
+                                                size_t* out_size);
+/* Frees what pnb_framebuffer_encode_image returned (NULL: nothing). */
+PNB_API void pnb_bytes_free(uint8_t* data);
 
 /* ------------------------------------------------------------ rendering */
 

@@ -343,6 +343,13 @@ public:
     /// renamed, so a failure leaves no partial image. Throws Error(IoError /
     /// InvalidArgument) naming the file.
     void writeImage(const std::string& path, const ImageOptions& options = {}) const;
+    /// The bytes writeImage would write to a file of `format` ("png", "jpg",
+    /// "exr", "hdr", "pfm", "tif"; any case, with or without the dot), encoded
+    /// in memory: for hosts that send or show the image (a web page, a GUI, a
+    /// notebook) without a file. With options.aovs only EXR holds the AOVs (as
+    /// channels); other formats throw Error(InvalidArgument). An unknown format
+    /// is Error(InvalidArgument), an encoder failure Error(IoError).
+    std::vector<std::uint8_t> encodeImage(const std::string& format, const ImageOptions& options = {}) const;
 
 private:
     struct Impl;

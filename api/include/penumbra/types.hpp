@@ -270,6 +270,28 @@ struct RenderStats {
     std::uint64_t totalRays() const {
         return cameraRays + shadowRays + reflectionRays + transmissionRays + indirectRays + brdfRays;
     }
+
+    /// Adds the stats of a later pass of the same image (RenderJob::stats sums
+    /// its passes so): counts and time add up, samplesPerPixel and threads
+    /// become the pass's, the longest path the longer, and the ray rate is
+    /// recomputed over the whole.
+    RenderStats& operator+=(const RenderStats& pass) {
+        cameraRays += pass.cameraRays;
+        shadowRays += pass.shadowRays;
+        reflectionRays += pass.reflectionRays;
+        invalidRays += pass.invalidRays;
+        nonFiniteSamples += pass.nonFiniteSamples;
+        renderSeconds += pass.renderSeconds;
+        transmissionRays += pass.transmissionRays;
+        indirectRays += pass.indirectRays;
+        pathLengthSum += pass.pathLengthSum;
+        pathLengthMax = pass.pathLengthMax > pathLengthMax ? pass.pathLengthMax : pathLengthMax;
+        brdfRays += pass.brdfRays;
+        mraysPerSecond = renderSeconds > 0 ? double(totalRays()) / renderSeconds * 1e-6 : 0.0;
+        samplesPerPixel = pass.samplesPerPixel;
+        threads = pass.threads;
+        return *this;
+    }
 };
 
 // ---------------------------------------------------------------- preparing

@@ -114,25 +114,28 @@ Scene& Scene::operator=(Scene&& other) noexcept {
     return *this;
 }
 
+pn::Material checkedMaterial(const Material& m, const std::vector<std::string>& textures) {
+    const std::string what = "material '" + m.name + "'";
+    requireColor(m.ka, what + ": ka");
+    requireColor(m.kd, what + ": kd");
+    requireColor(m.ks, what + ": ks");
+    requireColor(m.kr, what + ": kr");
+    requireColor(m.ke, what + ": ke");
+    require(std::isfinite(m.exponent) && m.exponent >= 0.f, what + ": exponent must be finite and >= 0");
+    requireColor(m.kt, what + ": kt");
+    require(std::isfinite(m.ior) && m.ior > 0.f, what + ": ior must be finite and > 0");
+    pn::Material pm{m};
+    if (!m.diffuseTexture.empty())
+        pm.textureIndex = int(std::find(textures.begin(), textures.end(), m.diffuseTexture) - textures.begin());
+    return pm;
+}
+
 MaterialId Scene::addMaterial(const Material& m) {
     return guarded([&] {
         pn::Scene& s = impl_->scene;
-        const std::string what = "material '" + m.name + "'";
-        requireColor(m.ka, what + ": ka");
-        requireColor(m.kd, what + ": kd");
-        requireColor(m.ks, what + ": ks");
-        requireColor(m.kr, what + ": kr");
-        requireColor(m.ke, what + ": ke");
-        require(std::isfinite(m.exponent) && m.exponent >= 0.f, what + ": exponent must be finite and >= 0");
-        requireColor(m.kt, what + ": kt");
-        require(std::isfinite(m.ior) && m.ior > 0.f, what + ": ior must be finite and > 0");
+        pn::Material pm = checkedMaterial(m, s.textures);
         require(s.materials.size() < std::numeric_limits<MaterialId>::max(), "too many materials");
-        pn::Material pm{m};
-        if (!m.diffuseTexture.empty()) {
-            auto it = std::find(s.textures.begin(), s.textures.end(), m.diffuseTexture);
-            pm.textureIndex = int(it - s.textures.begin());
-            if (it == s.textures.end()) s.textures.push_back(m.diffuseTexture);
-        }
+        if (pm.textureIndex == int(s.textures.size())) s.textures.push_back(m.diffuseTexture);
         s.materials.push_back(pm);
         return MaterialId(s.materials.size() - 1);
     });
@@ -294,8 +297,9 @@ void Scene::addPrototypeMesh(PrototypeId prototype, const MeshDesc& d) {
     });
 }
 
-void Scene::addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject, std::optional<MaterialId> material) {
-    guarded([&] {
+std::size_t Scene::addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject,
+                              std::optional<MaterialId> material) {
+    return guarded([&] {
         pn::Scene& s = impl_->scene;
         requirePrototype(s, prototype, "addInstance");
         for (const auto& row : worldFromObject.m)
@@ -305,6 +309,7 @@ void Scene::addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject,
         require(std::isfinite(t.determinant()) && t.inverse(inverse), "instance transform is singular");
         if (material) requireMaterial(s, *material, "instance");
         s.instances.push_back(pn::makeInstance(prototype, t, material ? *material : pn::kNoMaterialOverride));
+        return s.instances.size() - 1;
     });
 }
 

@@ -96,7 +96,7 @@ pnb::Scene scene(const Look& look) {
 
 constexpr pnb::MaterialId kRed = 1, kLamp = 2;
 
-std::vector<float> render(const pnb::Renderer& r, const pnb::PreparedScene& p) {
+pnb::RenderSettings settings() {
     pnb::RenderSettings st;
     st.width = 40;  // small: the naive loop tests every primitive for every ray
     st.height = 30;
@@ -105,11 +105,19 @@ std::vector<float> render(const pnb::Renderer& r, const pnb::PreparedScene& p) {
     st.seed = 5;
     st.integrator = pnb::IntegratorKind::Path;
     st.maxDepth = 3;
+    return st;
+}
+
+pnb::Camera camera() {
     pnb::Camera c;
     c.eye = {0.5f, 3.f, 6.f};
     c.lookAt = {0, 0.5f, 0};
     c.vfovDegrees = 45.f;
-    return r.render(p, c, st).rgba();
+    return c;
+}
+
+std::vector<float> render(const pnb::Renderer& r, const pnb::PreparedScene& p) {
+    return r.render(p, camera(), settings()).rgba();
 }
 
 class SceneEdit : public penumbra::test::ForBothAccelerators {
@@ -237,6 +245,29 @@ TEST_P(SceneEdit, BadEditsAreErrorsAndTheSceneStaysUsable) {
     e.environmentScale = nan;
     expectError(e, "environment scale");
     EXPECT_EQ(render(r, base), image);
+}
+
+// The old scene is immutable and shared: renders of it running on another
+// thread while edits are made (and the old handle dropped) give the image
+// they give alone, and the edited scene outlives the one it came from.
+TEST_P(SceneEdit, EditsLeaveRendersOfTheOldSceneUndisturbed) {
+    const pnb::Renderer r = quietRenderer();
+    const pnb::PrepareOptions opt{GetParam()};
+    pnb::PreparedScene base = r.prepare(scene(Look{}), opt);
+    pnb::RenderSettings longer = settings();
+    longer.spp = 32;  // still running while the edits are made
+    const std::vector<float> alone = r.render(base, camera(), longer).rgba();
+    pnb::RenderJob job = r.renderAsync(base, camera(), longer);
+    Look after;
+    after.placements[0] = pnb::Matrix3x4::translate({-1.f, 1.5f, 1.f});
+    pnb::SceneEdits e;
+    e.transforms = {{0, after.placements[0]}};
+    std::vector<pnb::PreparedScene> edits;
+    for (int i = 0; i < 8; ++i) edits.push_back(r.update(i ? edits.back() : base, e));
+    base = pnb::PreparedScene{};  // the job and the edits keep what they use alive
+    job.wait();
+    EXPECT_EQ(job.framebuffer().rgba(), alone);
+    EXPECT_EQ(render(r, edits.back()), render(r, r.prepare(scene(after), opt)));
 }
 
 PENUMBRA_FOR_BOTH_ACCELERATORS(SceneEdit);

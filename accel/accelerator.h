@@ -101,6 +101,12 @@ public:
             out[l] = rays.active[l] ? intersectPrim(rays.ray(l)) : std::nullopt;
     }
 
+    /// The accelerator of `scene`, a copy of this one's scene whose instances
+    /// may have moved (and whose materials and lights, which no accelerator
+    /// reads, may differ): what did not move is shared, not rebuilt. `buffers`
+    /// keeps alive the scene whose mesh buffers the shared parts read.
+    virtual std::unique_ptr<Accelerator> edited(const Scene& scene, std::shared_ptr<const void> buffers) const = 0;
+
     virtual std::string name() const = 0;
 
     /// Bytes held by the acceleration structure itself (not the scene arrays).

@@ -42,6 +42,12 @@ inline RTCRay toRtcRay(const Ray& r, float tfar) {
 class EmbreeAccelerator final : public Accelerator {
 public:
     EmbreeAccelerator(const Scene& scene, BuildQuality quality) : Accelerator(scene), bvh_(scene, quality) {}
+    EmbreeAccelerator(const EmbreeAccelerator& base, const Scene& scene, std::shared_ptr<const void> buffers)
+        : Accelerator(scene), bvh_(base.bvh_, scene, std::move(buffers)) {}
+
+    std::unique_ptr<Accelerator> edited(const Scene& scene, std::shared_ptr<const void> buffers) const override {
+        return std::make_unique<EmbreeAccelerator>(*this, scene, std::move(buffers));
+    }
 
     std::optional<PrimIntersection> intersectPrim(const Ray& ray) const override {
         if (!acceptRay(ray)) return std::nullopt;

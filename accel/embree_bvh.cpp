@@ -173,34 +173,69 @@ const char* errorName(RTCError code) {
 
 }  // namespace
 
-EmbreeBvh::EmbreeBvh(const Scene& scene, BuildQuality quality) : sceneData_(scene) { build(toEmbree(quality)); }
+EmbreeBvh::EmbreeBvh(const Scene& scene, BuildQuality quality) : sceneData_(scene), quality_(toEmbree(quality)) {
+    build(quality_);
+}
+
+EmbreeBvh::EmbreeBvh(const EmbreeBvh& base, const Scene& scene, std::shared_ptr<const void> buffers)
+    : sceneData_(scene),
+      log_(base.log_),
+      buffers_(std::move(buffers)),
+      quality_(base.quality_),
+      hasGeometry_(base.hasGeometry_),
+      boxOfQuad_(base.boxOfQuad_),
+      worldHasGeometry_(base.worldHasGeometry_) {
+    rtcRetainDevice(base.device_.get());
+    device_ = EmbreeDevice(base.device_.get());
+    if (scene.instances.empty()) {
+        // One level: nothing Embree holds has changed.
+        rtcRetainScene(base.rtcScene_.get());
+        rtcScene_ = EmbreeScene(base.rtcScene_.get());
+        memoryAfterCommit_ = base.memoryAfterCommit_;
+        hasRootBounds_ = base.hasRootBounds_;
+        rootLo_ = base.rootLo_;
+        rootHi_ = base.rootHi_;
+        return;
+    }
+    for (const EmbreeScene& p : base.prototypeScenes_) {
+        if (p) rtcRetainScene(p.get());
+        prototypeScenes_.emplace_back(p.get());
+    }
+    if (base.worldScene_) {
+        rtcRetainScene(base.worldScene_.get());
+        worldScene_ = EmbreeScene(base.worldScene_.get());
+    }
+    commitTop(quality_);
+}
 
 EmbreeBvh::~EmbreeBvh() {
-    // Release the scene while the device's callbacks can still reach us;
-    // the instances hold references to the prototype scenes, so those go after.
+    // Release the scene before the device, while the device's callbacks can
+    // still reach the log; the instances hold references to the world and
+    // prototype scenes, so those go after.
     rtcScene_.reset();
+    worldScene_.reset();
     prototypeScenes_.clear();
     device_.reset();
 }
 
 void EmbreeBvh::errorCallback(void* userPtr, RTCError code, const char* str) {
-    auto* self = static_cast<EmbreeBvh*>(userPtr);
-    std::lock_guard<std::mutex> lock(self->errorMutex_);
-    self->errors_.push_back(std::string(errorName(code)) + (str && *str ? std::string(": ") + str : ""));
+    auto* log = static_cast<DeviceLog*>(userPtr);
+    std::lock_guard<std::mutex> lock(log->mutex);
+    log->errors.push_back(std::string(errorName(code)) + (str && *str ? std::string(": ") + str : ""));
 }
 
 bool EmbreeBvh::memoryCallback(void* userPtr, ssize_t bytes, bool /*post*/) {
-    static_cast<EmbreeBvh*>(userPtr)->memoryBytes_.fetch_add(bytes, std::memory_order_relaxed);
+    static_cast<DeviceLog*>(userPtr)->memoryBytes.fetch_add(bytes, std::memory_order_relaxed);
     return true;  // never veto an allocation: out-of-memory is Embree's to report
 }
 
 // Turns errors the device reported during the last call into an Error.
 void EmbreeBvh::check(const char* what) {
-    std::lock_guard<std::mutex> lock(errorMutex_);
-    if (errors_.empty()) return;
+    std::lock_guard<std::mutex> lock(log_->mutex);
+    if (log_->errors.empty()) return;
     std::string msg = std::string("Embree error during ") + what + ": ";
-    for (size_t i = 0; i < errors_.size(); ++i) msg += (i ? "; " : "") + errors_[i];
-    errors_.clear();
+    for (size_t i = 0; i < log_->errors.size(); ++i) msg += (i ? "; " : "") + log_->errors[i];
+    log_->errors.clear();
     throw Error(ErrorCode::Embree, msg);
 }
 
@@ -212,30 +247,70 @@ void EmbreeBvh::build(RTCBuildQuality quality) {
         throw Error(ErrorCode::Embree,
                     std::string("Embree error during rtcNewDevice: ") + errorName(rtcGetDeviceError(nullptr)));
     }
-    rtcSetDeviceErrorFunction(device_.get(), &errorCallback, this);
-    rtcSetDeviceMemoryMonitorFunction(device_.get(), &memoryCallback, this);
+    rtcSetDeviceErrorFunction(device_.get(), &errorCallback, log_.get());
+    rtcSetDeviceMemoryMonitorFunction(device_.get(), &memoryCallback, log_.get());
     check("device setup");
 
-    rtcScene_ = EmbreeScene(rtcNewScene(device_.get()));
-    check("rtcNewScene");
-    rtcSetSceneFlags(rtcScene_.get(), RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(rtcScene_.get(), quality);
+    if (sceneData_.instances.empty()) {
+        rtcScene_ = newScene(quality, "rtcNewScene");
+        buildWorld(rtcScene_.get(), quality);
+        rtcCommitScene(rtcScene_.get());
+        check("rtcCommitScene");
+        memoryAfterCommit_ = static_cast<size_t>(std::max<int64_t>(0, log_->memoryBytes.load()));
+        if (hasGeometry_) setRootBounds();
+        return;
+    }
+    worldScene_ = newScene(quality, "rtcNewScene(world)");
+    buildWorld(worldScene_.get(), quality);
+    if (worldHasGeometry_) {
+        rtcCommitScene(worldScene_.get());
+        check("rtcCommitScene(world)");
+    } else {
+        worldScene_.reset();
+    }
+    prototypeScenes_.resize(sceneData_.prototypes.size());
+    for (const Instance& in : sceneData_.instances) prototypeScene(in.prototype, quality);
+    commitTop(quality);
+}
+
+EmbreeScene EmbreeBvh::newScene(RTCBuildQuality quality, const char* what) {
+    EmbreeScene scene(rtcNewScene(device_.get()));
+    check(what);
+    rtcSetSceneFlags(scene.get(), RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene.get(), quality);
     check("scene setup");
+    return scene;
+}
 
-    addUserGeometry<Sphere>(quality);
-    addBoxQuads(quality);
-    addRectangleQuads(quality);
-    addUserGeometry<Disk>(quality);
+// Every shape and mesh of Scene's own arrays (not the instances), into `target`.
+void EmbreeBvh::buildWorld(RTCScene target, RTCBuildQuality quality) {
+    const bool before = hasGeometry_;
+    hasGeometry_ = false;
+    addUserGeometry<Sphere>(target, quality);
+    addBoxQuads(target, quality);
+    addRectangleQuads(target, quality);
+    addUserGeometry<Disk>(target, quality);
     for (size_t i = 0; i < sceneData_.meshes.size(); ++i)
-        attachMesh(sceneData_.meshes[i], rtcScene_.get(), kFirstMeshGeomId + static_cast<unsigned>(i), quality);
-    hasGeometry_ = hasGeometry_ || !sceneData_.meshes.empty();
-    firstInstanceGeomId_ = kFirstMeshGeomId + static_cast<unsigned>(sceneData_.meshes.size());
-    for (size_t j = 0; j < sceneData_.instances.size(); ++j) addInstance(j, quality);
+        attachMesh(sceneData_.meshes[i], target, kFirstMeshGeomId + static_cast<unsigned>(i), quality);
+    worldHasGeometry_ = hasGeometry_ || !sceneData_.meshes.empty();
+    hasGeometry_ = before || worldHasGeometry_;
+}
 
+// The top level of a scene with instances: the world scene, then each
+// instance, committed. The only part an edit that moves instances builds.
+void EmbreeBvh::commitTop(RTCBuildQuality quality) {
+    rtcScene_ = newScene(quality, "rtcNewScene(top level)");
+    if (worldScene_) addInstance(rtcScene_.get(), kWorldInstanceGeomId, worldScene_.get(), Transform());
+    for (size_t j = 0; j < sceneData_.instances.size(); ++j) {
+        const Instance& in = sceneData_.instances[j];
+        addInstance(rtcScene_.get(), kFirstInstanceGeomId + static_cast<unsigned>(j),
+                    prototypeScenes_[in.prototype].get(), in.worldFromObject);
+    }
+    hasGeometry_ = true;
     rtcCommitScene(rtcScene_.get());
     check("rtcCommitScene");
-    memoryAfterCommit_ = static_cast<size_t>(std::max<int64_t>(0, memoryBytes_.load()));
-    if (hasGeometry_) setRootBounds();
+    memoryAfterCommit_ = static_cast<size_t>(std::max<int64_t>(0, log_->memoryBytes.load()));
+    setRootBounds();
 }
 
 // The box every Embree geometry lies in (rtcGetSceneBounds), grown by a
@@ -255,7 +330,7 @@ void EmbreeBvh::setRootBounds() {
 }
 
 template <class Shape>
-void EmbreeBvh::addUserGeometry(RTCBuildQuality quality) {
+void EmbreeBvh::addUserGeometry(RTCScene target, RTCBuildQuality quality) {
     const auto& shapes = ShapeTraits<Shape>::of(sceneData_);
     if (shapes.empty()) return;
     EmbreeGeometry g(rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_USER));
@@ -270,13 +345,14 @@ void EmbreeBvh::addUserGeometry(RTCBuildQuality quality) {
     rtcSetGeometryBuildQuality(geom, quality);
     rtcCommitGeometry(geom);
     check("user geometry setup");
-    rtcAttachGeometryByID(rtcScene_.get(), geom, ShapeTraits<Shape>::kGeomId);
+    rtcAttachGeometryByID(target, geom, ShapeTraits<Shape>::kGeomId);
     check("rtcAttachGeometryByID(user)");
     hasGeometry_ = true;
 }
 
 // A quad geometry from corner positions (4 per quad, in order around it).
-void EmbreeBvh::addQuads(const std::vector<Vec3f>& corners, unsigned geomId, RTCBuildQuality quality, const char* what) {
+void EmbreeBvh::addQuads(RTCScene target, const std::vector<Vec3f>& corners, unsigned geomId, RTCBuildQuality quality,
+                         const char* what) {
     if (corners.empty()) return;
     const size_t quads = corners.size() / 4;
     EmbreeGeometry g(rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_QUAD));
@@ -297,14 +373,14 @@ void EmbreeBvh::addQuads(const std::vector<Vec3f>& corners, unsigned geomId, RTC
     rtcSetGeometryBuildQuality(geom, quality);
     rtcCommitGeometry(geom);
     check(what);
-    rtcAttachGeometryByID(rtcScene_.get(), geom, geomId);
+    rtcAttachGeometryByID(target, geom, geomId);
     check(what);
     hasGeometry_ = true;
 }
 
 // Each box as its six faces, corners transformed to world space (an
 // affine map keeps every face a planar parallelogram).
-void EmbreeBvh::addBoxQuads(RTCBuildQuality quality) {
+void EmbreeBvh::addBoxQuads(RTCScene target, RTCBuildQuality quality) {
     static constexpr int kFaces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
                                          {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
     std::vector<Vec3f> corners;
@@ -320,15 +396,15 @@ void EmbreeBvh::addBoxQuads(RTCBuildQuality quality) {
             boxOfQuad_.push_back(static_cast<uint32_t>(i));
         }
     }
-    addQuads(corners, kBoxGeomId, quality, "box quads setup");
+    addQuads(target, corners, kBoxGeomId, quality, "box quads setup");
 }
 
 // Each rectangle p0, p0 + a, p0 + a + b, p0 + b: Embree's quad (u, v) is then (s, t).
-void EmbreeBvh::addRectangleQuads(RTCBuildQuality quality) {
+void EmbreeBvh::addRectangleQuads(RTCScene target, RTCBuildQuality quality) {
     std::vector<Vec3f> corners;
     for (const Rectangle& q : sceneData_.rectangles)
         corners.insert(corners.end(), {q.p0, q.p0 + q.a, q.p0 + q.a + q.b, q.p0 + q.b});
-    addQuads(corners, kRectangleGeomId, quality, "rectangle quads setup");
+    addQuads(target, corners, kRectangleGeomId, quality, "rectangle quads setup");
 }
 
 void EmbreeBvh::attachMesh(const TriangleMesh& m, RTCScene target, unsigned geomId, RTCBuildQuality quality) {
@@ -350,36 +426,29 @@ void EmbreeBvh::attachMesh(const TriangleMesh& m, RTCScene target, unsigned geom
 
 // The prototype's own scene, built on first use: instances share it.
 RTCScene EmbreeBvh::prototypeScene(uint32_t index, RTCBuildQuality quality) {
-    if (prototypeScenes_.empty()) prototypeScenes_.resize(sceneData_.prototypes.size());
     EmbreeScene& ps = prototypeScenes_[index];
     if (ps) return ps.get();
     const Prototype& p = sceneData_.prototypes[index];
-    ps = EmbreeScene(rtcNewScene(device_.get()));
-    check("rtcNewScene(prototype)");
-    rtcSetSceneFlags(ps.get(), RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(ps.get(), quality);
+    ps = newScene(quality, "rtcNewScene(prototype)");
     for (size_t k = 0; k < p.meshes.size(); ++k) attachMesh(p.meshes[k], ps.get(), static_cast<unsigned>(k), quality);
     rtcCommitScene(ps.get());
     check(("rtcCommitScene(prototype '" + p.name + "')").c_str());
     return ps.get();
 }
 
-void EmbreeBvh::addInstance(size_t index, RTCBuildQuality quality) {
-    const Instance& in = sceneData_.instances[index];
-    RTCScene proto = prototypeScene(in.prototype, quality);
+void EmbreeBvh::addInstance(RTCScene target, unsigned geomId, RTCScene prototype, const Transform& worldFromObject) {
     EmbreeGeometry g(rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_INSTANCE));
     check("rtcNewGeometry(instance)");
     RTCGeometry geom = g.get();
-    rtcSetGeometryInstancedScene(geom, proto);
+    rtcSetGeometryInstancedScene(geom, prototype);
     float m[3][4];
     for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) m[r][c] = in.worldFromObject(r, c);
+        for (int c = 0; c < 4; ++c) m[r][c] = worldFromObject(r, c);
     rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, &m[0][0]);
     rtcCommitGeometry(geom);
     check("instance setup");
-    rtcAttachGeometryByID(rtcScene_.get(), geom, firstInstanceGeomId_ + static_cast<unsigned>(index));
+    rtcAttachGeometryByID(target, geom, geomId);
     check("rtcAttachGeometryByID(instance)");
-    hasGeometry_ = true;
 }
 
 }  // namespace penumbra

@@ -10,9 +10,17 @@
 //   geomID 2      rectangles as native quads, primID = index in Scene::rectangles
 //   geomID 3      disks (user geometry), primID = index in Scene::disks
 //   geomID 4 + i  scene.meshes[i] as a native triangle mesh, primID = triangle
-//   geomID 4 + M + j  scene.instances[j] (M = scene.meshes.size()) as an Embree
-//                 instance of its prototype's scene; a hit has instID[0] = this
-//                 geomID, geomID = the mesh within the prototype, primID = triangle
+//
+// A scene with instances has two levels: everything above lives in a world
+// scene of its own, placed in the top-level scene by an identity instance
+// (top-level geomID 0), and scene.instances[j] is top-level geomID 1 + j, an
+// Embree instance of its prototype's scene; a hit has instID[0] = that geomID,
+// geomID = the mesh within the prototype, primID = triangle. So an edit that
+// moves instances (EmbreeBvh's editing constructor) commits a new top level
+// over the same world and prototype scenes, and rebuilds neither. A scene
+// without instances keeps one level: the world scene is the top level, so it
+// pays no instance indirection. (Spheres and disks report no instID; an
+// identity transform leaves every ray coordinate as it was.)
 //
 // Instancing: each prototype that has instances gets its own RTCScene (its
 // meshes attached by their index, the vertex buffers shared as for ordinary
@@ -41,6 +49,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -56,6 +65,12 @@ public:
     /// the device's messages when Embree reports an error. The scene must
     /// outlive the BVH (its mesh buffers are shared with Embree, not copied).
     EmbreeBvh(const Scene& scene, BuildQuality quality);
+    /// The BVH of `scene`, which is base's scene with instances moved (and
+    /// materials or lights changed, which Embree never sees): shares base's
+    /// device, world and prototype scenes, and commits a new top level (or
+    /// shares base's whole scene when it has no instances). `buffers` owns
+    /// the scene whose buffers those shared scenes read.
+    EmbreeBvh(const EmbreeBvh& base, const Scene& scene, std::shared_ptr<const void> buffers);
     ~EmbreeBvh();
     // The device calls back into this object: it stays where it was built.
     EmbreeBvh(const EmbreeBvh&) = delete;
@@ -68,8 +83,8 @@ public:
 
     /// A hit of Embree's as the scene's PrimRef (the layout above).
     PrimRef refOf(unsigned geomID, unsigned primID, unsigned instID) const {
-        if (instID != RTC_INVALID_GEOMETRY_ID)
-            return PrimRef{ShapeKind::Instance, instID - firstInstanceGeomId_, primID, geomID};
+        if (instID != RTC_INVALID_GEOMETRY_ID && instID != kWorldInstanceGeomId)
+            return PrimRef{ShapeKind::Instance, instID - kFirstInstanceGeomId, primID, geomID};
         if (geomID >= kFirstMeshGeomId) return PrimRef{ShapeKind::Mesh, geomID - kFirstMeshGeomId, primID};
         if (geomID == kBoxGeomId) return PrimRef{ShapeKind::Box, boxOfQuad_[primID], 0};
         return PrimRef{kKindOfGeom[geomID], primID, 0};
@@ -85,43 +100,56 @@ public:
         return hasRootBounds_;
     }
 
-    /// Bytes Embree held after the commit (its memory monitor).
+    /// Bytes Embree's device held after the commit (its memory monitor;
+    /// edited scenes share their base's device, and this counts it all).
     size_t memoryBytes() const { return memoryAfterCommit_; }
 
 private:
     static constexpr unsigned kBoxGeomId = 1, kRectangleGeomId = 2, kFirstMeshGeomId = 4;
+    static constexpr unsigned kWorldInstanceGeomId = 0, kFirstInstanceGeomId = 1;  // top level, two levels
     static constexpr ShapeKind kKindOfGeom[4] = {ShapeKind::Sphere, ShapeKind::Box, ShapeKind::Rectangle,
                                                  ShapeKind::Disk};
 
+    // What the device's callbacks write: shared by every BVH on the device.
+    struct DeviceLog {
+        std::mutex mutex;
+        std::vector<std::string> errors;
+        std::atomic<int64_t> memoryBytes{0};
+    };
     static void errorCallback(void* userPtr, RTCError code, const char* str);
     static bool memoryCallback(void* userPtr, ssize_t bytes, bool post);
     void check(const char* what);
     void build(RTCBuildQuality quality);
+    EmbreeScene newScene(RTCBuildQuality quality, const char* what);
+    void buildWorld(RTCScene target, RTCBuildQuality quality);
+    void commitTop(RTCBuildQuality quality);
     void setRootBounds();
     template <class Shape>
-    void addUserGeometry(RTCBuildQuality quality);
-    void addQuads(const std::vector<Vec3f>& corners, unsigned geomId, RTCBuildQuality quality, const char* what);
-    void addBoxQuads(RTCBuildQuality quality);
-    void addRectangleQuads(RTCBuildQuality quality);
+    void addUserGeometry(RTCScene target, RTCBuildQuality quality);
+    void addQuads(RTCScene target, const std::vector<Vec3f>& corners, unsigned geomId, RTCBuildQuality quality,
+                  const char* what);
+    void addBoxQuads(RTCScene target, RTCBuildQuality quality);
+    void addRectangleQuads(RTCScene target, RTCBuildQuality quality);
     void attachMesh(const TriangleMesh& m, RTCScene target, unsigned geomId, RTCBuildQuality quality);
     RTCScene prototypeScene(uint32_t index, RTCBuildQuality quality);
-    void addInstance(size_t index, RTCBuildQuality quality);
+    void addInstance(RTCScene target, unsigned geomId, RTCScene prototype, const Transform& worldFromObject);
 
     const Scene& sceneData_;
-    // Declared before the Embree handles so they outlive them: the device
-    // calls back into these while it releases its memory.
-    std::mutex errorMutex_;
-    std::vector<std::string> errors_;
-    std::atomic<int64_t> memoryBytes_{0};
+    // Declared before the Embree handles so it outlives them: the device
+    // calls back into it while it releases its memory.
+    std::shared_ptr<DeviceLog> log_ = std::make_shared<DeviceLog>();
+    std::shared_ptr<const void> buffers_;  // an edited BVH's: the scene its shared scenes read
+    RTCBuildQuality quality_ = RTC_BUILD_QUALITY_HIGH;
     size_t memoryAfterCommit_ = 0;
     bool hasGeometry_ = false;
     bool hasRootBounds_ = false;  // rootLo_/rootHi_ hold the padded bounds of the Embree geometry
     Vec3f rootLo_, rootHi_;
     std::vector<uint32_t> boxOfQuad_;  // box index of each box quad (primID)
-    unsigned firstInstanceGeomId_ = kFirstMeshGeomId;
+    bool worldHasGeometry_ = false;
 
     EmbreeDevice device_;
     std::vector<EmbreeScene> prototypeScenes_;  // by prototype index; empty handles for unused ones
+    EmbreeScene worldScene_;                    // the world scene when the scene has instances
     EmbreeScene rtcScene_;
 };
 

@@ -17,6 +17,10 @@ class NaiveAccelerator final : public Accelerator {
 public:
     explicit NaiveAccelerator(const Scene& scene) : Accelerator(scene) {}
 
+    std::unique_ptr<Accelerator> edited(const Scene& scene, std::shared_ptr<const void>) const override {
+        return std::make_unique<NaiveAccelerator>(scene);
+    }
+
     std::optional<PrimIntersection> intersectPrim(const Ray& ray) const override {
         if (!acceptRay(ray)) return std::nullopt;
         // The query interval shrinks to the closest hit so far, so each test

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/instance.h"
 
@@ -22,10 +23,14 @@ ShapeBounds::ShapeBounds(const Scene& scene) {
     for (uint32_t i = 0; i < scene.disks.size(); ++i) addBox(bounds(scene.disks[i]), PrimRef{ShapeKind::Disk, i, 0, 0});
     for (uint32_t i = 0; i < scene.meshes.size(); ++i)
         addBox(bounds(scene.meshes[i]), PrimRef{ShapeKind::Mesh, i, 0, 0});
+    // Each prototype's box once (a pass over its vertices), however many instances place it.
+    std::vector<std::optional<Bounds3f>> prototypeBounds(scene.prototypes.size());
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& in = scene.instances[i];
-        if (in.prototype < scene.prototypes.size())
-            addBox(instanceBounds(scene.prototypes[in.prototype], in), PrimRef{ShapeKind::Instance, i, 0, 0});
+        if (in.prototype >= scene.prototypes.size()) continue;
+        std::optional<Bounds3f>& object = prototypeBounds[in.prototype];
+        if (!object) object = scene.prototypes[in.prototype].bounds();
+        addBox(instanceBounds(*object, in.worldFromObject), PrimRef{ShapeKind::Instance, i, 0, 0});
     }
     for (uint32_t i = 0; i < scene.spheres.size(); ++i) {
         const Sphere& s = scene.spheres[i];

@@ -25,6 +25,7 @@
 #include "core/log.h"
 #include "core/render_settings.h"
 #include "core/scene.h"
+#include "core/scene_edits.h"
 #include "core/transform.h"
 #include "shading/renderer.h"
 
@@ -45,6 +46,9 @@ struct PreparedScene::Impl {
     Impl(pn::Scene scene, const pn::PrepareOptions& options, const pn::Logger& log,
          std::optional<pn::CameraDesc> cam, pn::SettingsPatch patch)
         : prepared(std::move(scene), options, log), camera(cam), settings(patch) {}
+    // An edit of base (Renderer::update).
+    Impl(const Impl& base, const pn::SceneEdits& edits, const pn::Logger& log)
+        : prepared(base.prepared, edits, log), camera(base.camera), settings(base.settings) {}
     pn::PreparedScene prepared;
     std::optional<pn::CameraDesc> camera;
     pn::SettingsPatch settings;
@@ -147,6 +151,13 @@ Matrix3x4 out(const pn::Transform& t);
 RenderSettings settingsFrom(const pn::SettingsPatch& patch);
 /// The scene's camera, else one framing `bounds`.
 Camera defaultCameraFor(const std::optional<pn::CameraDesc>& cam, const pn::Bounds3f& bounds, float aspect, float vfov);
+
+/// A public material checked (Error naming it) and converted; its texture's
+/// index in `textures`, or textures.size() when it is not there yet.
+/// The texture index of a material's texture path in its colour space (core/material.h, bindTextures).
+using TextureBinder = std::function<int(std::string& path, pn::TextureColorSpace)>;
+/// A host's material, checked, its textures bound to indices by `texture`.
+pn::Material checkedMaterial(const Material& m, const TextureBinder& texture);
 
 /// The prepared data behind a handle; throws for an empty one.
 const PreparedImpl& requirePrepared(const PreparedScene& p);

@@ -105,28 +105,46 @@ pnb_status pnb_scene_clone(const pnb_scene* scene, pnb_scene** out) {
 void pnb_scene_destroy(pnb_scene* scene) { destroy(scene); }
 const char* pnb_scene_last_error(const pnb_scene* scene) { return scene ? scene->error.c_str() : ""; }
 
+namespace {
+
+// The C material as the C++ one (values are checked where it is used).
+pnb::Material materialIn(const pnb_material& material) {
+    pnb::Material m;
+    if (material.name) m.name = material.name;
+    m.ka = in(material.ka);
+    m.kd = in(material.kd);
+    m.ks = in(material.ks);
+    m.exponent = material.exponent;
+    m.kr = in(material.kr);
+    m.ke = in(material.ke);
+    m.twoSidedEmission = material.two_sided_emission != 0;
+    const int model = rawEnum(material.model);
+    if (model != PNB_PHONG_NORMALIZED && model != PNB_PHONG_CLASSIC)
+        throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                         "material model " + std::to_string(model) + " is not a pnb_phong_model");
+    m.model = model == PNB_PHONG_CLASSIC ? pnb::PhongModel::Classic : pnb::PhongModel::Normalized;
+    if (material.diffuse_texture) m.diffuseTexture = material.diffuse_texture;
+    m.kt = in(material.kt);
+    m.ior = material.ior;
+    return m;
+}
+
+// 12 floats, a row-major 3x4 matrix; NULL: the identity.
+pnb::Matrix3x4 matrixIn(const float* rowMajor) {
+    pnb::Matrix3x4 m;
+    if (rowMajor)
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) m.m[r][c] = rowMajor[4 * r + c];
+    return m;
+}
+
+}  // namespace
+
 pnb_status pnb_scene_add_material(pnb_scene* scene, const pnb_material* material, uint32_t* out_id) {
     return guard(scene ? &scene->error : nullptr, "pnb_scene_add_material", [&] {
         need(scene, "scene");
         need(material, "material");
-        pnb::Material m;
-        if (material->name) m.name = material->name;
-        m.ka = in(material->ka);
-        m.kd = in(material->kd);
-        m.ks = in(material->ks);
-        m.exponent = material->exponent;
-        m.kr = in(material->kr);
-        m.ke = in(material->ke);
-        m.twoSidedEmission = material->two_sided_emission != 0;
-        const int model = rawEnum(material->model);
-        if (model != PNB_PHONG_NORMALIZED && model != PNB_PHONG_CLASSIC)
-            throw pnb::Error(pnb::ErrorCode::InvalidArgument,
-                             "material model " + std::to_string(model) + " is not a pnb_phong_model");
-        m.model = model == PNB_PHONG_CLASSIC ? pnb::PhongModel::Classic : pnb::PhongModel::Normalized;
-        if (material->diffuse_texture) m.diffuseTexture = material->diffuse_texture;
-        m.kt = in(material->kt);
-        m.ior = material->ior;
-        const pnb::MaterialId id = scene->scene.addMaterial(m);
+        const pnb::MaterialId id = scene->scene.addMaterial(materialIn(*material));
         if (out_id) *out_id = id;
     });
 }
@@ -309,13 +327,9 @@ pnb_status pnb_scene_add_instance(pnb_scene* scene, uint32_t prototype, const fl
                                   uint32_t material) {
     return guard(scene ? &scene->error : nullptr, "pnb_scene_add_instance", [&] {
         need(scene, "scene");
-        pnb::Matrix3x4 m;
-        if (world_from_object)
-            for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 4; ++c) m.m[r][c] = world_from_object[4 * r + c];
         std::optional<pnb::MaterialId> mat;
         if (material != PNB_KEEP_MATERIALS) mat = material;
-        scene->scene.addInstance(prototype, m, mat);
+        scene->scene.addInstance(prototype, matrixIn(world_from_object), mat);
     });
 }
 
@@ -339,6 +353,38 @@ pnb_status pnb_prepare(pnb_renderer* renderer, const pnb_scene* scene, const pnb
         }
         auto prepared = std::make_unique<pnb_prepared_scene>();
         prepared->prepared = renderer->renderer.prepare(scene->scene, po);
+        *out = prepared.release();
+    });
+}
+
+pnb_status pnb_update(pnb_renderer* renderer, const pnb_prepared_scene* base, const pnb_scene_edits* edits,
+                      pnb_prepared_scene** out) {
+    if (out) *out = nullptr;
+    return guard(renderer ? &renderer->error : nullptr, "pnb_update", [&] {
+        need(renderer, "renderer");
+        need(base, "base");
+        need(edits, "edits");
+        need(out, "out");
+        auto array = [](const void* p, size_t count, const char* what) {
+            if (count && !p) throw pnb::Error(pnb::ErrorCode::InvalidArgument, std::string(what) + " is NULL");
+        };
+        array(edits->transforms, edits->transform_count, "edits->transforms");
+        array(edits->materials, edits->material_count, "edits->materials");
+        array(edits->point_lights, edits->point_light_count, "edits->point_lights");
+        array(edits->directional_lights, edits->directional_light_count, "edits->directional_lights");
+        pnb::SceneEdits e;
+        for (size_t i = 0; i < edits->transform_count; ++i)
+            e.transforms.emplace_back(edits->transforms[i].instance, matrixIn(edits->transforms[i].world_from_object));
+        for (size_t i = 0; i < edits->material_count; ++i)
+            e.materials.emplace_back(edits->materials[i].material, materialIn(edits->materials[i].value));
+        for (size_t i = 0; i < edits->point_light_count; ++i)
+            e.pointLights.emplace_back(edits->point_lights[i].light, in(edits->point_lights[i].value));
+        for (size_t i = 0; i < edits->directional_light_count; ++i)
+            e.directionalLights.emplace_back(edits->directional_lights[i].light, in(edits->directional_lights[i].value));
+        if (edits->set_environment_rotation) e.environmentRotateDegrees = edits->environment_rotate_degrees;
+        if (edits->set_environment_scale) e.environmentScale = edits->environment_scale;
+        auto prepared = std::make_unique<pnb_prepared_scene>();
+        prepared->prepared = renderer->renderer.update(base->prepared, e);
         *out = prepared.release();
     });
 }

@@ -236,6 +236,10 @@ void pnb_render_callbacks_init(pnb_render_callbacks* cb) {
     if (cb) *cb = pnb_render_callbacks{nullptr, nullptr};
 }
 
+void pnb_scene_edits_init(pnb_scene_edits* e) {
+    if (e) *e = pnb_scene_edits{nullptr, 0, nullptr, 0, nullptr, 0, nullptr, 0, 0, 0.f, 0, 1.f};
+}
+
 void pnb_async_options_init(pnb_async_options* o) {
     if (o) *o = pnb_async_options{nullptr, 0, nullptr, nullptr, nullptr};
 }

@@ -146,4 +146,35 @@ PreparedScene Renderer::prepare(Scene&& scene, const PrepareOptions& options) co
     });
 }
 
+PreparedScene Renderer::update(const PreparedScene& scene, const SceneEdits& edits) const {
+    return guarded([&] {
+        const PreparedImpl& base = requirePrepared(scene);
+        const pn::Scene& s = base.prepared.scene();
+        pn::SceneEdits e;
+        auto index = [](std::size_t i, const char* what) {
+            require(i < UINT32_MAX, std::string("edit: ") + what + " " + std::to_string(i) + " does not exist");
+            return static_cast<std::uint32_t>(i);
+        };
+        for (const auto& [i, m] : edits.transforms) e.transforms.emplace_back(index(i, "instance"), in(m));
+        for (const auto& [id, m] : edits.materials) {
+            // An edit can name only textures the prepared scene read already.
+            const auto known = [&, id = id](std::string& path, pn::TextureColorSpace space) {
+                for (size_t i = 0; i < s.textures.size(); ++i)
+                    if (s.textures[i].name == path && s.textures[i].colorSpace == space) return int(i);
+                fail(ErrorCode::InvalidArgument, "edit: material " + std::to_string(id) + ": its texture '" + path +
+                                                     "' is not one the prepared scene read: prepare the edited scene instead");
+            };
+            e.materials.emplace_back(id, checkedMaterial(m, known));
+        }
+        for (const auto& [i, c] : edits.pointLights) e.pointLights.emplace_back(index(i, "point light"), in(c));
+        for (const auto& [i, c] : edits.directionalLights)
+            e.directionalLights.emplace_back(index(i, "directional light"), in(c));
+        e.environmentRotateDegrees = edits.environmentRotateDegrees;
+        e.environmentScale = edits.environmentScale;
+        PreparedScene p;
+        Access::set(p, std::make_shared<const PreparedImpl>(base, e, impl_->log));
+        return p;
+    });
+}
+
 }  // namespace pnb

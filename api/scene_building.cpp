@@ -114,27 +114,32 @@ Scene& Scene::operator=(Scene&& other) noexcept {
     return *this;
 }
 
+pn::Material checkedMaterial(const Material& m, const TextureBinder& texture) {
+    const std::string what = "material '" + m.name + "'";
+    requireColor(m.ka, what + ": ka");
+    requireColor(m.kd, what + ": kd");
+    requireColor(m.ks, what + ": ks");
+    requireColor(m.kr, what + ": kr");
+    requireColor(m.ke, what + ": ke");
+    require(std::isfinite(m.exponent) && m.exponent >= 0.f, what + ": exponent must be finite and >= 0");
+    requireColor(m.kt, what + ": kt");
+    require(std::isfinite(m.ior) && m.ior > 0.f, what + ": ior must be finite and > 0");
+    if (auto problem = pn::materialProblem(m)) fail(ErrorCode::InvalidArgument, what + ": " + *problem);
+    pn::Material pm{m};
+    // Until the renderer shades metal-roughness, its Phong terms approximate it (as loaders do).
+    if (pm.kind == MaterialKind::MetalRoughness) pn::approximateWithPhong(pm);
+    pn::bindTextures(pm, texture);
+    return pm;
+}
+
 MaterialId Scene::addMaterial(const Material& m) {
     return guarded([&] {
         pn::Scene& s = impl_->scene;
-        const std::string what = "material '" + m.name + "'";
-        requireColor(m.ka, what + ": ka");
-        requireColor(m.kd, what + ": kd");
-        requireColor(m.ks, what + ": ks");
-        requireColor(m.kr, what + ": kr");
-        requireColor(m.ke, what + ": ke");
-        require(std::isfinite(m.exponent) && m.exponent >= 0.f, what + ": exponent must be finite and >= 0");
-        requireColor(m.kt, what + ": kt");
-        require(std::isfinite(m.ior) && m.ior > 0.f, what + ": ior must be finite and > 0");
-        if (auto problem = pn::materialProblem(m)) fail(ErrorCode::InvalidArgument, what + ": " + *problem);
-        require(s.materials.size() < std::numeric_limits<MaterialId>::max(), "too many materials");
-        pn::Material pm{m};
-        // Until the renderer shades metal-roughness, its Phong terms approximate it (as loaders do).
-        if (pm.kind == MaterialKind::MetalRoughness) pn::approximateWithPhong(pm);
         // Named in code: opened by name, once, when the scene is prepared.
-        pn::bindTextures(pm, [&](std::string& path, pn::TextureColorSpace space) {
+        pn::Material pm = checkedMaterial(m, [&](std::string& path, pn::TextureColorSpace space) {
             return s.addTexture(pn::TextureSource{path, space});
         });
+        require(s.materials.size() < std::numeric_limits<MaterialId>::max(), "too many materials");
         s.materials.push_back(pm);
         return MaterialId(s.materials.size() - 1);
     });
@@ -296,8 +301,9 @@ void Scene::addPrototypeMesh(PrototypeId prototype, const MeshDesc& d) {
     });
 }
 
-void Scene::addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject, std::optional<MaterialId> material) {
-    guarded([&] {
+std::size_t Scene::addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject,
+                              std::optional<MaterialId> material) {
+    return guarded([&] {
         pn::Scene& s = impl_->scene;
         requirePrototype(s, prototype, "addInstance");
         for (const auto& row : worldFromObject.m)
@@ -307,6 +313,7 @@ void Scene::addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject,
         require(std::isfinite(t.determinant()) && t.inverse(inverse), "instance transform is singular");
         if (material) requireMaterial(s, *material, "instance");
         s.instances.push_back(pn::makeInstance(prototype, t, material ? *material : pn::kNoMaterialOverride));
+        return s.instances.size() - 1;
     });
 }
 

@@ -1,5 +1,6 @@
 #include "core/instance.h"
 
+#include <cmath>
 #include <limits>
 
 #include "core/error.h"
@@ -70,6 +71,19 @@ Instance makeInstance(uint32_t prototype, const Transform& worldFromObject, uint
     if (!worldFromObject.inverse(in.objectFromWorld)) in.objectFromWorld = Transform();
     in.material = material;
     return in;
+}
+
+bool finiteTransform(const Transform& t) {
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            if (!std::isfinite(t(r, c))) return false;
+    return true;
+}
+
+bool placeable(const Transform& worldFromObject) {
+    Transform inverse;
+    return finiteTransform(worldFromObject) && std::isfinite(worldFromObject.determinant()) &&
+           worldFromObject.inverse(inverse) && finiteTransform(inverse);
 }
 
 Bounds3f instanceBounds(const Prototype& prototype, const Instance& instance) {

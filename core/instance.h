@@ -68,7 +68,17 @@ struct Instance {
     Transform worldFromObject;            // must be invertible
     Transform objectFromWorld;            // kept in sync by makeInstance() (and Scene::finalize)
     uint32_t material = kNoMaterialOverride;  // when set, replaces the material of every face
+    /// Its index in Scene::instances as the scene was built (Scene::finalize
+    /// numbers them before dropping or expanding any), the id edits name it by.
+    uint32_t sourceIndex = kUnnumbered;
+    static constexpr uint32_t kUnnumbered = UINT32_MAX;
 };
+
+/// Whether all twelve entries are finite.
+bool finiteTransform(const Transform& t);
+/// Whether an instance may be placed by this transform: finite, invertible,
+/// with a finite inverse (Scene::finalize drops the others).
+bool placeable(const Transform& worldFromObject);
 
 /// An instance with its inverse transform filled in (identity when singular;
 /// Scene::finalize drops such instances).

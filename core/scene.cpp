@@ -1,6 +1,7 @@
 #include "core/scene.h"
 
 #include <algorithm>
+#include <optional>
 #include <string>
 
 #include "core/lane_clones.h"
@@ -15,13 +16,6 @@ size_t eraseIf(std::vector<T>& v, Pred bad) {
     size_t before = v.size();
     v.erase(std::remove_if(v.begin(), v.end(), bad), v.end());
     return before - v.size();
-}
-
-bool finiteTransform(const Transform& t) {
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c)
-            if (!std::isfinite(t(r, c))) return false;
-    return true;
 }
 
 // Drops the bad triangles of one mesh; returns how many were dropped.
@@ -72,10 +66,7 @@ size_t repairMesh(TriangleMesh& m, const Logger& log) {
 // non-finite or singular transform; refreshes the others' inverses.
 size_t dropBadInstances(std::vector<Instance>& instances, size_t prototypeCount) {
     const size_t dropped = eraseIf(instances, [&](const Instance& in) {
-        Transform inv;
-        return in.prototype >= prototypeCount || !finiteTransform(in.worldFromObject) ||
-               !std::isfinite(in.worldFromObject.determinant()) || !in.worldFromObject.inverse(inv) ||
-               !finiteTransform(inv);
+        return in.prototype >= prototypeCount || !placeable(in.worldFromObject);
     });
     for (auto& in : instances) in.worldFromObject.inverse(in.objectFromWorld);
     return dropped;
@@ -100,6 +91,8 @@ SceneFixups Scene::finalize(const Logger& log) {
         def.name = "default";
         materials.push_back(def);
     }
+    for (size_t i = 0; i < instances.size(); ++i)
+        if (instances[i].sourceIndex == Instance::kUnnumbered) instances[i].sourceIndex = static_cast<uint32_t>(i);
     fix.droppedInstances += dropBadInstances(instances, prototypes.size());
     CopyCount copies;
     countExpansion(copies);
@@ -240,8 +233,13 @@ Bounds3f Scene::bounds() const {
     for (const auto& s : rectangles) b.extend(penumbra::bounds(s));
     for (const auto& s : disks) b.extend(penumbra::bounds(s));
     for (const auto& m : meshes) b.extend(penumbra::bounds(m));
-    for (const auto& in : instances)
-        if (in.prototype < prototypes.size()) b.extend(instanceBounds(prototypes[in.prototype], in));
+    std::vector<std::optional<Bounds3f>> prototypeBounds(prototypes.size());  // each a pass over its vertices, once
+    for (const auto& in : instances) {
+        if (in.prototype >= prototypes.size()) continue;
+        std::optional<Bounds3f>& object = prototypeBounds[in.prototype];
+        if (!object) object = prototypes[in.prototype].bounds();
+        b.extend(instanceBounds(*object, in.worldFromObject));
+    }
     return b;
 }
 

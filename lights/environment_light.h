@@ -56,6 +56,8 @@ public:
     /// Mean radiance over the sphere (solid-angle weighted).
     Rgb meanRadiance() const { return mean_; }
     bool hasImage() const { return image_.width > 0; }
+    /// The image as lit (non-finite and negative values cleaned); empty for a constant environment.
+    const RgbImage& image() const { return image_; }
 
 private:
     Vec3f toWorld(const Vec3f& local) const;

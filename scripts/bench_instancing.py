@@ -9,6 +9,11 @@ instanced runs (the machine drifts), and writes scripts/benchmarks_doc_instancin
 (the section of docs/benchmarks.md; regenerate that page with
 scripts/make_benchmarks_doc.py) with the commands, the machine, the raw output
 and the figures computed from it. Run from the repository root after a build.
+
+With --edit it times instead, through the Python module of build/python, what
+moving one dragon of the instanced scene costs: Renderer.prepare of the scene
+against Renderer.update(prepared, transforms={0: ...}) (medians of --rounds),
+and prints both and their ratio (the goal: an update within 5% of a prepare).
 """
 import argparse
 import json
@@ -76,14 +81,60 @@ def machine():
     return f"{cpu}, {os.cpu_count()} cores, {gib:.0f} GiB, {platform.system()} {platform.release()}"
 
 
+EDIT_TIMING = """
+import statistics, sys, time
+import penumbra
+rounds = int(sys.argv[2])
+r = penumbra.Renderer()
+scene = r.load_scene(sys.argv[1])
+moved = penumbra.Matrix3x4.translate((-29.0, 4.0, 3.0)) @ penumbra.Matrix3x4.rotate(75.0, (0, 1, 0))
+prepare, update = [], []
+for _ in range(rounds):
+    t0 = time.perf_counter()
+    prepared = r.prepare(scene)
+    t1 = time.perf_counter()
+    edited = r.update(prepared, transforms={0: moved})
+    t2 = time.perf_counter()
+    prepare.append(t1 - t0)
+    update.append(t2 - t1)
+    del prepared, edited
+p, u = statistics.median(prepare), statistics.median(update)
+print(f"prepare (median of {rounds}): {p * 1e3:.1f} ms   runs: " + " ".join(f"{t * 1e3:.1f}" for t in prepare))
+print(f"update, one dragon moved (median of {rounds}): {u * 1e3:.2f} ms   runs: " + " ".join(f"{t * 1e3:.2f}" for t in update))
+print(f"update / prepare: {100 * u / p:.2f}%")
+"""
+
+
+def edit_benchmark(work, rounds):
+    """Times prepare against update (one dragon moved) of the instanced scene."""
+    built_for = (ROOT / "build" / "python" / "penumbra" / "_built_for.py").read_text()
+    python = built_for.split('INTERPRETER = "', 1)[1].split('"', 1)[0]
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "build" / "python"))
+    p = subprocess.run([python, "-c", EDIT_TIMING, str(work / "instanced.json"), str(rounds)], env=env,
+                       capture_output=True, text=True)
+    print(p.stdout + p.stderr, end="")
+    if p.returncode != 0:
+        raise SystemExit(p.returncode)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--dragons", type=int, default=20)
     ap.add_argument("--out", default=str(ROOT / "scripts" / "benchmarks_doc_instancing.md"))
+    ap.add_argument("--edit", action="store_true", help="time moving one dragon against preparing the scene")
     a = ap.parse_args()
     if not DRAGON.exists():
         raise SystemExit(f"{DRAGON} is missing: this benchmark needs ../shared")
+    if a.edit:
+        work = Path(tempfile.mkdtemp(prefix="penumbra-edit-"))
+        shutil.copy(DRAGON, work / "dragon.obj")
+        (work / "instanced.json").write_text(json.dumps(scene(True, a.dragons), indent=1))
+        try:
+            edit_benchmark(work, a.rounds)
+        finally:
+            shutil.rmtree(work)
+        return
     cli = ROOT / "build" / "bin" / "penumbra"
     work = Path(tempfile.mkdtemp(prefix="penumbra-inst-"))
     shutil.copy(DRAGON, work / "dragon.obj")

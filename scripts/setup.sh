@@ -9,6 +9,7 @@ packages=(
   libpugixml-dev
   libgtest-dev libcli11-dev nlohmann-json3-dev
   python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio
+  python3-venv python3-pip python3-setuptools python3-wheel python3-nbconvert python3-ipykernel
   gnuplot-nox
   clang libclang-rt-14-dev
   libopenmpi-dev openmpi-bin

@@ -16,7 +16,9 @@
 #include "core/multi_jitter_lanes.h"
 #include "core/parallel.h"
 #include "core/rgb_image.h"
+#include "core/scene_edits.h"
 #include "core/texture_cache.h"
+#include "lights/environment_light.h"
 #include "shading/integrator.h"
 
 namespace penumbra {
@@ -41,28 +43,53 @@ RgbImage readEnvironmentImage(const EnvironmentDesc& env, const Logger& log) {
 
 }  // namespace
 
-PreparedScene::PreparedScene(Scene scene, const PrepareOptions& options, const Logger& log) : scene_(std::move(scene)) {
+PreparedScene::PreparedScene(Scene sceneIn, const PrepareOptions& options, const Logger& log) {
     auto t0 = Clock::now();
-    fixups_ = scene_.finalize(log);
-    accel_ = makeAccelerator(options.accelerator, scene_, options.quality);
-    // No silently black scenes: one place for every way in (CLI, JSON, API, Python).
-    if (scene_.defaultLight && !scene_.hasLight()) {
-        EnvironmentDesc white;
-        white.color = Rgb(kDefaultEnvironmentRadiance);
-        scene_.environment = white;
-        defaultLightAdded_ = true;
-        log.warn("the scene has no light (no emitter, point or directional light, ambient light, environment or "
-                 "background): lighting it with a uniform white environment of radiance 1; give it a light or an "
-                 "environment (--env) to change this");
-    }
+    auto scene = std::make_shared<Scene>(std::move(sceneIn));
+    fixups_ = scene->finalize(log);
+    accel_ = makeAccelerator(options.accelerator, *scene, options.quality);
+    addDefaultLightIfDark(*scene, log);
     RgbImage environmentImage;
-    if (scene_.environment && !scene_.environment->image.empty())
-        environmentImage = readEnvironmentImage(*scene_.environment, log);
-    lights_ = std::make_unique<LightSet>(scene_, std::move(environmentImage));
+    if (scene->environment && !scene->environment->image.empty())
+        environmentImage = readEnvironmentImage(*scene->environment, log);
+    scene_ = buffers_ = scene;
+    buildLights(std::move(environmentImage));
     // Textures are read from the files the loader opened right after its path check (never
     // reopened by name: a file swapped in since then is not read) or from their bytes.
-    if (!scene_.textures.empty()) textures_ = std::make_unique<TextureCache>(scene_.textures, log);
+    if (!scene_->textures.empty()) textures_ = std::make_shared<const TextureCache>(scene_->textures, log);
     buildSeconds_ = secondsSince(t0);
+}
+
+PreparedScene::PreparedScene(const PreparedScene& base, const SceneEdits& edits, const Logger& log)
+    : buffers_(base.buffers_), fixups_(base.fixups_), textures_(base.textures_) {
+    auto t0 = Clock::now();
+    auto scene = std::make_shared<Scene>(*base.scene_);
+    if (base.defaultLightAdded_) scene->environment.reset();  // the edited scene decides anew
+    applyEdits(*scene, edits);
+    accel_ = base.accel_->edited(*scene, buffers_);
+    addDefaultLightIfDark(*scene, log);
+    scene_ = scene;
+    // The file is not read again: the image base decoded (and cleaned, which a second time changes nothing).
+    const EnvironmentLight* env = base.lights_->environment();
+    buildLights(env && env->hasImage() && scene->environment && !scene->environment->image.empty() ? env->image()
+                                                                                                     : RgbImage{});
+    buildSeconds_ = secondsSince(t0);
+}
+
+// No silently black scenes: one place for every way in (CLI, JSON, API, Python, edits).
+void PreparedScene::addDefaultLightIfDark(Scene& scene, const Logger& log) {
+    if (!scene.defaultLight || scene.hasLight()) return;
+    EnvironmentDesc white;
+    white.color = Rgb(kDefaultEnvironmentRadiance);
+    scene.environment = white;
+    defaultLightAdded_ = true;
+    log.warn("the scene has no light (no emitter, point or directional light, ambient light, environment or "
+             "background): lighting it with a uniform white environment of radiance 1; give it a light or an "
+             "environment (--env) to change this");
+}
+
+void PreparedScene::buildLights(RgbImage environmentImage) {
+    lights_ = std::make_unique<LightSet>(*scene_, std::move(environmentImage));
 }
 
 PreparedScene::~PreparedScene() = default;

@@ -21,6 +21,8 @@
 namespace penumbra {
 
 class TextureCache;
+struct RgbImage;
+struct SceneEdits;
 
 struct PrepareOptions {
     AcceleratorKind accelerator = AcceleratorKind::Embree;
@@ -39,11 +41,18 @@ public:
     /// Takes the scene by value (move it in); finalizes it and builds
     /// everything. Throws Error on failure (Embree errors included).
     PreparedScene(Scene scene, const PrepareOptions& options, const Logger& log);
+    /// `base` with `edits` applied (core/scene_edits.h): the same scene, bit
+    /// for bit, as preparing the edited scene from scratch. Shares with base
+    /// what the edits leave alone: the accelerator's world and prototype
+    /// BVHs (a move commits a new top level only) and the textures; rebuilds
+    /// the light set (from base's decoded environment image, copied). Throws
+    /// Error naming a bad edit; base is untouched either way.
+    PreparedScene(const PreparedScene& base, const SceneEdits& edits, const Logger& log);
     ~PreparedScene();
     PreparedScene(const PreparedScene&) = delete;
     PreparedScene& operator=(const PreparedScene&) = delete;
 
-    const Scene& scene() const { return scene_; }
+    const Scene& scene() const { return *scene_; }
     const Accelerator& accelerator() const { return *accel_; }
     const LightSet& lights() const { return *lights_; }
     const TextureCache* textures() const { return textures_.get(); }
@@ -54,11 +63,17 @@ public:
     bool defaultLightAdded() const { return defaultLightAdded_; }
 
 private:
-    Scene scene_;
+    void addDefaultLightIfDark(Scene& scene, const Logger& log);
+    void buildLights(RgbImage environmentImage);
+
+    std::shared_ptr<const Scene> scene_;
+    // The scene whose mesh buffers the accelerator's shared Embree scenes
+    // read: scene_ itself, or the first of a chain of edits.
+    std::shared_ptr<const Scene> buffers_;
     SceneFixups fixups_;
     std::unique_ptr<Accelerator> accel_;
     std::unique_ptr<LightSet> lights_;
-    std::unique_ptr<TextureCache> textures_;
+    std::shared_ptr<const TextureCache> textures_;
     double buildSeconds_ = 0.0;
     bool defaultLightAdded_ = false;
 };

@@ -10,31 +10,43 @@ See docs/python.md. Everything here binds the C++ API (<penumbra/penumbra.hpp>).
 """
 
 import atexit
+import sys
 import weakref
 
-from ._penumbra import (
-    BuildQuality,
-    Camera,
-    DirectLightSampling,
-    Error,
-    ErrorCode,
-    Framebuffer,
-    IntegratorKind,
-    JobStatus,
-    LightSelection,
-    LogLevel,
-    Material,
-    Matrix3x4,
-    PhongModel,
-    PreparedScene,
-    RenderJob,
-    Renderer,
-    RenderSettings,
-    RenderStats,
-    Scene,
-    version,
-)
-from ._image import Image, png_bytes
+try:
+    from ._penumbra import (
+        BuildQuality,
+        Camera,
+        DirectLightSampling,
+        Error,
+        ErrorCode,
+        Framebuffer,
+        IntegratorKind,
+        JobStatus,
+        LightSelection,
+        LogLevel,
+        Material,
+        Matrix3x4,
+        PhongModel,
+        PreparedScene,
+        RenderJob,
+        Renderer,
+        RenderSettings,
+        RenderStats,
+        Scene,
+        version,
+    )
+    from ._image import Image, png_bytes
+except ImportError as error:
+    # Built for another interpreter (a pyenv or conda python3 beside Debian's,
+    # a venv without numpy): say which one instead of failing deep inside.
+    from ._built_for import INTERPRETER, PYTHON_VERSION
+
+    raise ImportError(
+        f"penumbra was built for {INTERPRETER} (Python {PYTHON_VERSION}) and cannot be imported by "
+        f"{sys.executable} (Python {sys.version.split()[0]}): {error}. Run it with {INTERPRETER}, or build it "
+        f"for this interpreter (cmake -DPython3_EXECUTABLE={sys.executable}, or pip install --no-build-isolation .)"
+    ) from error
 
 __version__ = version()
 

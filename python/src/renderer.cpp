@@ -1,6 +1,7 @@
 // Renderer (load, prepare, render, progressive passes) and RenderJob
 // (asynchronous renders). Every render runs without the GIL.
 #include <algorithm>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -356,6 +357,35 @@ void bindRenderer(py::module_& m) {
             py::arg("quality") = pnb::BuildQuality::High,
             "Validates the scene (repairs are logged and counted), builds its BVH and light tables. "
             "accelerator: AcceleratorKind.Embree or .Naive (or 'embree', 'naive').")
+        .def(
+            "update",
+            [](const pnb::Renderer& r, const pnb::PreparedScene& prepared,
+               const std::map<std::size_t, pnb::Matrix3x4>& transforms,
+               const std::map<pnb::MaterialId, pnb::Material>& materials,
+               const std::map<std::size_t, pnb::Color>& pointLights,
+               const std::map<std::size_t, pnb::Color>& directionalLights, std::optional<float> environmentRotation,
+               std::optional<float> environmentScale) {
+                pnb::SceneEdits e;
+                e.transforms.assign(transforms.begin(), transforms.end());
+                e.materials.assign(materials.begin(), materials.end());
+                e.pointLights.assign(pointLights.begin(), pointLights.end());
+                e.directionalLights.assign(directionalLights.begin(), directionalLights.end());
+                e.environmentRotateDegrees = environmentRotation;
+                e.environmentScale = environmentScale;
+                py::gil_scoped_release release;
+                return r.update(prepared, e);
+            },
+            py::arg("prepared"), py::kw_only(), py::arg("transforms") = std::map<std::size_t, pnb::Matrix3x4>{},
+            py::arg("materials") = std::map<pnb::MaterialId, pnb::Material>{},
+            py::arg("point_lights") = std::map<std::size_t, pnb::Color>{},
+            py::arg("directional_lights") = std::map<std::size_t, pnb::Color>{},
+            py::arg("environment_rotation") = py::none(), py::arg("environment_scale") = py::none(),
+            "A new PreparedScene: `prepared` with edits applied, the same image bit for bit as preparing the "
+            "edited Scene, sharing what the edits leave alone (moving instances rebuilds only the top-level BVH). "
+            "transforms: {instance index (add_instance's result): Matrix3x4}; materials: {material id: Material}; "
+            "point_lights / directional_lights: {index in the order added: intensity / irradiance}; "
+            "environment_rotation (degrees about +y) and environment_scale. Raises penumbra.Error naming a bad "
+            "edit; `prepared` is never changed.")
         .def(
             "render",
             [](const pnb::Renderer& r, const py::object& scene, const py::object& camera, const py::object& settings,

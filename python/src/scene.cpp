@@ -202,10 +202,11 @@ void bindScene(py::module_& m) {
             "add_instance",
             [](pnb::Scene& s, pnb::PrototypeId prototype, const std::optional<pnb::Matrix3x4>& transform,
                std::optional<pnb::MaterialId> material) {
-                s.addInstance(prototype, transform ? *transform : pnb::Matrix3x4{}, material);
+                return s.addInstance(prototype, transform ? *transform : pnb::Matrix3x4{}, material);
             },
             py::arg("prototype"), py::arg("transform") = py::none(), py::arg("material") = py::none(),
-            "Places a prototype by a world-from-object transform (Matrix3x4, invertible; None = identity); "
+            "Places a prototype by a world-from-object transform (Matrix3x4, invertible; None = identity) and "
+            "returns the instance's index (0, 1, ... in the order placed; Renderer.update's transforms name it). "
             "material, when given, replaces the material of every face.")
         .def_property_readonly("prototype_count", &pnb::Scene::prototypeCount)
         .def_property_readonly("instance_count", &pnb::Scene::instanceCount)

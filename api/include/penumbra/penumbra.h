@@ -297,7 +297,8 @@ PNB_API pnb_status pnb_scene_add_prototype_mesh(pnb_scene* scene, uint32_t proto
 /* Material value of pnb_scene_add_instance that keeps the prototype's own materials. */
 #define PNB_KEEP_MATERIALS 0xFFFFFFFFu
 /* world_from_object: 12 floats, a row-major 3x4 affine matrix (invertible); NULL = identity.
-   material: replaces every face's material, or PNB_KEEP_MATERIALS. */
+   material: replaces every face's material, or PNB_KEEP_MATERIALS. The instance's index, which
+   pnb_transform_edit names it by, is the number of instances added before it. */
 PNB_API pnb_status pnb_scene_add_instance(pnb_scene* scene, uint32_t prototype, const float* world_from_object,
                                           uint32_t material);
 
@@ -306,6 +307,42 @@ PNB_API pnb_status pnb_scene_add_instance(pnb_scene* scene, uint32_t prototype, 
 /* Validates the scene and builds its BVH and light tables (the scene is copied: it stays usable). */
 PNB_API pnb_status pnb_prepare(pnb_renderer* renderer, const pnb_scene* scene, const pnb_prepare_options* options,
                                pnb_prepared_scene** out);
+/* Edits of a prepared scene for pnb_update (docs/embedding.md, "Editing a prepared scene"). Each names
+   what it changes by the index the scene gave it: instances and lights in the order added, material ids. */
+typedef struct pnb_transform_edit {
+    uint32_t instance;
+    float world_from_object[12]; /* row-major 3x4, finite and invertible */
+} pnb_transform_edit;
+typedef struct pnb_material_edit {
+    uint32_t material;
+    pnb_material value;
+} pnb_material_edit;
+typedef struct pnb_light_edit {
+    uint32_t light;
+    pnb_color value; /* a point light's intensity, a directional light's irradiance */
+} pnb_light_edit;
+/* Fill with pnb_scene_edits_init first (no edits); each array holds its count of edits. */
+typedef struct pnb_scene_edits {
+    const pnb_transform_edit* transforms;
+    size_t transform_count;
+    const pnb_material_edit* materials;
+    size_t material_count;
+    const pnb_light_edit* point_lights;
+    size_t point_light_count;
+    const pnb_light_edit* directional_lights;
+    size_t directional_light_count;
+    int set_environment_rotation; /* non-zero: turn the environment to environment_rotate_degrees about +y */
+    float environment_rotate_degrees;
+    int set_environment_scale; /* non-zero: scale the environment by environment_scale */
+    float environment_scale;
+} pnb_scene_edits;
+PNB_API void pnb_scene_edits_init(pnb_scene_edits* edits);
+/* A new prepared scene in *out: base with the edits applied, the same image bit for bit as preparing the
+   edited scene, sharing with base what the edits leave alone. A bad edit (an index that names nothing, a
+   singular or non-finite matrix, a non-finite colour) is PNB_ERROR_INVALID_ARGUMENT naming it (see
+   pnb_renderer_last_error); base is never changed and stays usable. */
+PNB_API pnb_status pnb_update(pnb_renderer* renderer, const pnb_prepared_scene* base, const pnb_scene_edits* edits,
+                              pnb_prepared_scene** out);
 /* Running jobs keep the prepared data alive after this. */
 PNB_API void pnb_prepared_scene_destroy(pnb_prepared_scene* prepared);
 PNB_API pnb_status pnb_prepared_scene_get_info(const pnb_prepared_scene* prepared, pnb_prepared_info* out);

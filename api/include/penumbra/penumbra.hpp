@@ -23,6 +23,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #ifndef PENUMBRA_API
@@ -181,10 +182,12 @@ public:
     /// Copies a mesh into a prototype, in the prototype's object space;
     /// checked as addMesh checks it.
     void addPrototypeMesh(PrototypeId prototype, const MeshDesc& mesh);
-    /// Places a prototype. worldFromObject must be finite and invertible;
-    /// `material`, when given, replaces the material of every face.
-    void addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject,
-                     std::optional<MaterialId> material = std::nullopt);
+    /// Places a prototype and returns the instance's index (0, 1, ... in the
+    /// order placed), which SceneEdits names it by. worldFromObject must be
+    /// finite and invertible; `material`, when given, replaces the material
+    /// of every face.
+    std::size_t addInstance(PrototypeId prototype, const Matrix3x4& worldFromObject,
+                            std::optional<MaterialId> material = std::nullopt);
     std::size_t prototypeCount() const;
     std::size_t instanceCount() const;
     /// Environment light of constant radiance (times `scale`): it lights the
@@ -217,6 +220,23 @@ private:
 };
 
 // ---------------------------------------------------------------- prepared scene
+
+/// Changes to a prepared scene, for Renderer::update. Each names what it
+/// changes by the index the Scene gave it (docs/embedding.md, "Editing a
+/// prepared scene", says which edits are cheap and what each rebuilds).
+struct SceneEdits {
+    /// Instance index (Scene::addInstance's result) -> new worldFromObject.
+    std::vector<std::pair<std::size_t, Matrix3x4>> transforms;
+    /// Material id -> new material (an emissive ke makes it an area light).
+    std::vector<std::pair<MaterialId, Material>> materials;
+    /// Point light index (in the order added) -> intensity (W/sr per channel).
+    std::vector<std::pair<std::size_t, Color>> pointLights;
+    /// Directional light index (in the order added) -> irradiance.
+    std::vector<std::pair<std::size_t, Color>> directionalLights;
+    /// The environment's rotation about +y in degrees, and its scale.
+    std::optional<float> environmentRotateDegrees;
+    std::optional<float> environmentScale;
+};
 
 struct PrepareOptions {
     AcceleratorKind accelerator = AcceleratorKind::Embree;
@@ -471,6 +491,13 @@ public:
     /// and light tables. The scene is copied (or moved) in and not referenced after.
     PreparedScene prepare(const Scene& scene, const PrepareOptions& options = {}) const;
     PreparedScene prepare(Scene&& scene, const PrepareOptions& options = {}) const;
+    /// A new prepared scene: `scene` with `edits` applied, the same bit for
+    /// bit as preparing the edited Scene, sharing with `scene` what the edits
+    /// leave alone (moving instances commits a new top-level BVH over the
+    /// same prototype BVHs). Throws Error(InvalidArgument) naming a bad edit
+    /// (an id that names nothing, a singular or non-finite matrix, a
+    /// non-finite colour); `scene` is never changed and renders on unaffected.
+    PreparedScene update(const PreparedScene& scene, const SceneEdits& edits) const;
 
     /// Renders all settings.spp samples into a new framebuffer.
     Framebuffer render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,

@@ -126,13 +126,15 @@ MaterialId Scene::addMaterial(const Material& m) {
         require(std::isfinite(m.exponent) && m.exponent >= 0.f, what + ": exponent must be finite and >= 0");
         requireColor(m.kt, what + ": kt");
         require(std::isfinite(m.ior) && m.ior > 0.f, what + ": ior must be finite and > 0");
+        if (auto problem = pn::materialProblem(m)) fail(ErrorCode::InvalidArgument, what + ": " + *problem);
         require(s.materials.size() < std::numeric_limits<MaterialId>::max(), "too many materials");
         pn::Material pm{m};
-        if (!m.diffuseTexture.empty()) {
-            auto it = std::find(s.textures.begin(), s.textures.end(), m.diffuseTexture);
-            pm.textureIndex = int(it - s.textures.begin());
-            if (it == s.textures.end()) s.textures.push_back(m.diffuseTexture);
-        }
+        // Until the renderer shades metal-roughness, its Phong terms approximate it (as loaders do).
+        if (pm.kind == MaterialKind::MetalRoughness) pn::approximateWithPhong(pm);
+        // Named in code: opened by name, once, when the scene is prepared.
+        pn::bindTextures(pm, [&](std::string& path, pn::TextureColorSpace space) {
+            return s.addTexture(pn::TextureSource{path, space});
+        });
         s.materials.push_back(pm);
         return MaterialId(s.materials.size() - 1);
     });

@@ -44,6 +44,12 @@ TriangleMesh placedCopy(const TriangleMesh& mesh, const Transform& worldFromObje
     m.normals.reserve(mesh.normals.size());
     for (const Vec3f& n : mesh.normals) m.normals.push_back(normalize(worldFromObject.applyNormal(n)));
     m.uvs = mesh.uvs;
+    m.uvs1 = mesh.uvs1;
+    // Tangents turn with the surface; a mirroring placement flips the bitangent's side.
+    const float flip = worldFromObject.determinant() < 0.f ? -1.f : 1.f;
+    m.tangents.reserve(mesh.tangents.size());
+    for (const Tangent& t : mesh.tangents)
+        m.tangents.push_back({normalize(worldFromObject.applyVector(t.direction)), flip * t.sign});
     m.faceMaterials = mesh.faceMaterials;
     m.material = mesh.material;
     return m;

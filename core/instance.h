@@ -54,8 +54,9 @@ Instance makeInstance(uint32_t prototype, const Transform& worldFromObject, uint
 Bounds3f instanceBounds(const Prototype& prototype, const Instance& instance);
 
 /// A world-space copy of `mesh` placed by worldFromObject: positions
-/// transformed, normals by the inverse transpose, indices and UVs kept (so its
-/// front side is where the placed instance's is).
+/// transformed, normals by the inverse transpose, tangents as vectors (their
+/// sign flipped by a mirroring transform), indices and UVs kept (so its front
+/// side is where the placed instance's is).
 TriangleMesh placedCopy(const TriangleMesh& mesh, const Transform& worldFromObject);
 
 template <class MaterialList>

@@ -1,21 +1,55 @@
-// Phong material, as in the lecture notes (see docs/ and shading/phong.h for the BRDF).
+// Materials: the API's value type (api/include/penumbra/types.hpp: Phong, and
+// glTF's metal-roughness model) and what the scene resolved its textures to.
+// See docs/ and shading/phong.h for the Phong BRDF.
 #pragma once
 
 #include <penumbra/types.hpp>
 
+#include <cstdint>
+#include <functional>
+#include <optional>
 #include <string>
 
 #include "core/color.h"
+#include "core/math.h"
+#include "core/texture_source.h"
 
 namespace penumbra {
 
 using PhongModel = pnb::PhongModel;  // api/include/penumbra/types.hpp
+using MaterialKind = pnb::MaterialKind;
+using AlphaMode = pnb::AlphaMode;
+using TextureWrap = pnb::TextureWrap;
+using TextureFilter = pnb::TextureFilter;
+using TextureSlot = pnb::TextureSlot;
 
-/// The API's material (what a user or a scene file sets, the texture as a
-/// path: api/include/penumbra/types.hpp) and what the scene resolved its
-/// texture to.
+/// A texture slot resolved: which of Scene::textures it samples and how, with
+/// the slot's transform as one affine map of image coordinates (s, t).
+struct TextureRef {
+    int texture = -1;  // index into Scene::textures; -1 = none
+    uint8_t uvSet = 0;
+    uint8_t channel = 0;
+    TextureWrap wrapS = TextureWrap::Repeat;
+    TextureWrap wrapT = TextureWrap::Repeat;
+    TextureFilter filter = TextureFilter::Linear;
+    /// (s', t') = (m[0] s + m[1] t + m[2], m[3] s + m[4] t + m[5]).
+    float m[6] = {1.f, 0.f, 0.f, 0.f, 1.f, 0.f};
+
+    bool used() const { return texture >= 0; }
+    /// The slot's sampling for texture `index` (-1: an unused ref).
+    static TextureRef of(const TextureSlot& slot, int index);
+    /// Image coordinates of texture coordinates `uv` (OBJ's convention, v up: the scene's), transformed.
+    Vec2f imageCoordinates(Vec2f uv) const {
+        const float s = uv.x, t = 1.f - uv.y;
+        return {m[0] * s + m[1] * t + m[2], m[3] * s + m[4] * t + m[5]};
+    }
+};
+
+/// The API's material (what a user or a scene file sets, textures as paths)
+/// and the textures the scene resolved them to.
 struct Material : pnb::Material {
     int textureIndex = -1;  // index into Scene::textures (diffuseTexture's image), multiplies kd; -1 = none
+    TextureRef baseColorMap, metallicMap, roughnessMap, transmissionMap, normalMap, emissiveMap, opacityMap;
 
     bool isEmissive() const { return Rgb(ke).maxComponent() > 0.f; }
     bool isMirror() const { return Rgb(kr).maxComponent() > 0.f; }
@@ -23,6 +57,34 @@ struct Material : pnb::Material {
     bool isGlossy() const { return Rgb(ks).maxComponent() > 0.f; }
     /// Smooth glass: Fresnel reflection and refraction (shading/dielectric.h); kr is not used then.
     bool isDielectric() const { return Rgb(kt).maxComponent() > 0.f; }
+    /// Whether a hit on it needs texture coordinates (any texture), the
+    /// second uv set, or a tangent frame (a normal or bump map).
+    bool needsUv() const {
+        return textureIndex >= 0 || baseColorMap.used() || metallicMap.used() || roughnessMap.used() ||
+               transmissionMap.used() || normalMap.used() || emissiveMap.used() || opacityMap.used();
+    }
+    bool needsUv1() const;
+    bool needsTangents() const { return normalMap.used(); }
 };
+
+/// Fills the Phong terms of a metal-roughness material with the approximation
+/// loaders use until the renderer shades metal-roughness itself: the diffuse
+/// part is the non-metal share of the base colour less the dielectric's 4%
+/// specular; F0 (4% for dielectrics, the base colour for metals) becomes ks
+/// with the Phong exponent of the same Beckmann-like width, or a mirror (kr)
+/// when polished; transmission becomes glass (kt). Emission is left as it is.
+void approximateWithPhong(Material& m);
+
+/// Resolves a material's texture paths (diffuseTexture and every slot's) to
+/// Scene::textures indices through `texture`, which gets each non-empty path
+/// with the colour space its slot reads (colour slots as the file says, the
+/// others linear), may rewrite the path (to the file it resolved), and returns
+/// the index or -1 (the path is then cleared). Sets textureIndex and the TextureRefs.
+void bindTextures(Material& m, const std::function<int(std::string& path, TextureColorSpace)>& texture);
+
+/// What is wrong with the fields of the metal-roughness model, the slots and
+/// alpha ("roughness must lie in [0, 1], got 2"), or nullopt. (The Phong terms
+/// are checked where they are read.)
+std::optional<std::string> materialProblem(const pnb::Material& m);
 
 }  // namespace penumbra

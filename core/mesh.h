@@ -35,12 +35,22 @@ private:
     std::vector<Vec3f> v_;
 };
 
+/// A vertex's tangent, beside its normal: `direction` follows +u of the uv
+/// set the normal map reads, and the bitangent (following +v, up the image) is
+/// sign * cross(normal, direction): glTF's TANGENT attribute (xyz, w).
+struct Tangent {
+    Vec3f direction;
+    float sign = 1.f;
+};
+
 struct TriangleMesh {
     std::string name;
     PositionBuffer positions;
     std::vector<uint32_t> indices;        // 3 per triangle, counter-clockwise = front
     std::vector<Vec3f> normals;           // optional, one per vertex (smooth shading)
-    std::vector<Vec2f> uvs;               // optional, one per vertex
+    std::vector<Vec2f> uvs;               // optional, one per vertex; v points up the image (OBJ's convention)
+    std::vector<Vec2f> uvs1;              // optional second set (glTF TEXCOORD_1), the same convention
+    std::vector<Tangent> tangents;        // optional, one per vertex (normal maps; core/mesh_tangents.h)
     std::vector<uint32_t> faceMaterials;  // optional, one per triangle; else `material`
     uint32_t material = 0;
 
@@ -52,5 +62,11 @@ struct TriangleMesh {
         p2 = positions[indices[3 * tri + 2]];
     }
 };
+
+/// Keeps the vertices that triangles use (positions and every per-vertex
+/// array), in their order, and renumbers the indices (every index must be
+/// below positions.size()). Returns each old vertex's new index, UINT32_MAX
+/// for those dropped, so a caller can compact arrays of its own alike.
+std::vector<uint32_t> keepUsedVertices(TriangleMesh& m);
 
 }  // namespace penumbra

@@ -78,13 +78,16 @@ void smoothNormals(TriangleMesh& mesh, float maxAngleDegrees) {
         Vec3f normal;
         uint32_t index;
     };
-    const bool hasUvs = mesh.uvs.size() == nv;
-    std::vector<std::vector<Split>> splits(hasUvs ? nv : groupOf.size());
+    // Vertices with uvs or tangents keep them: corners are then told apart by vertex.
+    const bool hasUvs = mesh.uvs.size() == nv, hasUvs1 = mesh.uvs1.size() == nv, hasTangents = mesh.tangents.size() == nv;
+    const bool byVertex = hasUvs || hasUvs1 || hasTangents;
+    std::vector<std::vector<Split>> splits(byVertex ? nv : groupOf.size());
     PositionBuffer positions;
     positions.reserve(nv);
     std::vector<Vec3f> normals;
     normals.reserve(nv);
-    std::vector<Vec2f> uvs;
+    std::vector<Vec2f> uvs, uvs1;
+    std::vector<Tangent> tangents;
     std::vector<uint32_t> indices(mesh.indices.size());
     for (size_t c = 0; c < mesh.indices.size(); ++c) {
         const uint32_t v = mesh.indices[c];
@@ -101,7 +104,7 @@ void smoothNormals(TriangleMesh& mesh, float maxAngleDegrees) {
             const float l = length(n);
             n = l > 0.f && std::isfinite(l) ? n / l : own;
         }
-        auto& list = splits[hasUvs ? v : g];
+        auto& list = splits[byVertex ? v : g];
         auto it = std::find_if(list.begin(), list.end(), [&](const Split& s) {
             return s.normal.x == n.x && s.normal.y == n.y && s.normal.z == n.z;
         });
@@ -110,6 +113,8 @@ void smoothNormals(TriangleMesh& mesh, float maxAngleDegrees) {
             positions.push_back(mesh.positions[v]);
             normals.push_back(n);
             if (hasUvs) uvs.push_back(mesh.uvs[v]);
+            if (hasUvs1) uvs1.push_back(mesh.uvs1[v]);
+            if (hasTangents) tangents.push_back(mesh.tangents[v]);
             it = list.end() - 1;
         }
         indices[c] = it->index;
@@ -118,6 +123,8 @@ void smoothNormals(TriangleMesh& mesh, float maxAngleDegrees) {
     mesh.normals = std::move(normals);
     mesh.indices = std::move(indices);
     if (hasUvs) mesh.uvs = std::move(uvs);
+    if (hasUvs1) mesh.uvs1 = std::move(uvs1);
+    if (hasTangents) mesh.tangents = std::move(tangents);
 }
 
 }  // namespace penumbra

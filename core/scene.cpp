@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/lane_clones.h"
+#include "core/mesh_tangents.h"
 #include "core/scene_range.h"
 
 namespace penumbra {
@@ -32,14 +33,16 @@ size_t repairMesh(TriangleMesh& m, const Logger& log) {
         log.warn("mesh '" + m.name + "': per-face material count does not match the triangles; using one material");
         m.faceMaterials.clear();
     }
-    if (!m.normals.empty() && m.normals.size() != nv) {
-        log.warn("mesh '" + m.name + "': normal count does not match the vertices; using geometric normals");
-        m.normals.clear();
-    }
-    if (!m.uvs.empty() && m.uvs.size() != nv) {
-        log.warn("mesh '" + m.name + "': UV count does not match the vertices; ignoring UVs");
-        m.uvs.clear();
-    }
+    // Per-vertex arrays of another length than the positions are dropped.
+    auto perVertex = [&](auto& values, const std::string& what) {
+        if (values.empty() || values.size() == nv) return;
+        log.warn("mesh '" + m.name + "': " + what);
+        values.clear();
+    };
+    perVertex(m.normals, "normal count does not match the vertices; using geometric normals");
+    perVertex(m.uvs, "UV count does not match the vertices; ignoring UVs");
+    perVertex(m.uvs1, "second UV set's count does not match the vertices; ignoring it");
+    perVertex(m.tangents, "tangent count does not match the vertices; ignoring the tangents");
     for (auto& n : m.normals)
         if (!isFinite(n)) n = Vec3f{};  // completeHit falls back to the geometric normal
 
@@ -168,8 +171,15 @@ SceneFixups Scene::finalize(const Logger& log) {
     }
     for (auto& in : instances)
         if (in.material != kNoMaterialOverride) fixId(in.material);
-    for (auto& m : materials)
-        if (m.textureIndex >= static_cast<int>(textures.size())) m.textureIndex = -1;
+    const int nt = static_cast<int>(textures.size());
+    uvNeeded_.clear();
+    for (auto& m : materials) {
+        if (m.textureIndex >= nt) m.textureIndex = -1;
+        for (TextureRef* r : {&m.baseColorMap, &m.metallicMap, &m.roughnessMap, &m.transmissionMap, &m.normalMap,
+                              &m.emissiveMap, &m.opacityMap})
+            if (r->texture >= nt) *r = TextureRef{};
+        uvNeeded_.push_back(m.needsUv());
+    }
 
     if (fix.droppedTriangles)
         log.warn("dropped " + std::to_string(fix.droppedTriangles) +
@@ -190,6 +200,19 @@ SceneFixups Scene::finalize(const Logger& log) {
     fix.droppedInstances += beyond.instances;
     if (badIds) log.warn(std::to_string(badIds) + " material reference(s) out of range; using material 0");
     return fix;
+}
+
+int Scene::addTexture(TextureSource source) {
+    for (size_t i = 0; i < textures.size(); ++i)
+        if (textures[i].name == source.name && textures[i].colorSpace == source.colorSpace) return static_cast<int>(i);
+    textures.push_back(std::move(source));
+    return static_cast<int>(textures.size() - 1);
+}
+
+const TextureSource* Scene::findTexture(const std::string& name) const {
+    for (const TextureSource& t : textures)
+        if (t.name == name) return &t;
+    return nullptr;
 }
 
 bool Scene::hasLight() const {
@@ -282,6 +305,49 @@ PENUMBRA_LANE_CLONES void Scene::completeHit(const Ray& ray, const PrimRef& ref,
     }
     h.t = t;
     h.ref = ref;
+}
+
+std::optional<Scene::HitTriangle> Scene::hitTriangle(const Hit& h) const {
+    HitTriangle t;
+    t.mesh = meshOf(h.ref, &t.place);
+    if (!t.mesh) return std::nullopt;
+    t.idx = &t.mesh->indices[3 * size_t(h.ref.prim)];
+    for (int k = 0; k < 3; ++k) t.p[k] = t.place.applyPoint(t.mesh->positions[t.idx[k]]);
+    // h.p = (1 - u - v) p0 + u p1 + v p2: solved for (u, v) in the triangle's plane.
+    const Vec3f e1 = t.p[1] - t.p[0], e2 = t.p[2] - t.p[0], d = h.p - t.p[0];
+    const float a = dot(e1, e1), b = dot(e1, e2), c = dot(e2, e2), d1 = dot(d, e1), d2 = dot(d, e2);
+    const float det = a * c - b * b;
+    t.bary = det != 0.f ? Vec2f{(c * d1 - b * d2) / det, (a * d2 - b * d1) / det} : Vec2f{};
+    return t;
+}
+
+Vec2f Scene::uv1At(const Hit& h) const {
+    const std::optional<HitTriangle> t = hitTriangle(h);
+    if (!t || t->mesh->uvs1.empty()) return h.uv;
+    const float u = t->bary.x, v = t->bary.y, w = 1.f - u - v;
+    const Vec2f a = t->mesh->uvs1[t->idx[0]], b = t->mesh->uvs1[t->idx[1]], c = t->mesh->uvs1[t->idx[2]];
+    return {w * a.x + u * b.x + v * c.x, w * a.y + u * b.y + v * c.y};
+}
+
+Tangent Scene::tangentAt(const Hit& h, int uvSet) const {
+    const Tangent any{anyPerpendicular(h.ns), 1.f};
+    const std::optional<HitTriangle> t = hitTriangle(h);
+    if (!t) return any;
+    const TriangleMesh& m = *t->mesh;
+    if (!m.tangents.empty()) {
+        const float u = t->bary.x, v = t->bary.y, w = 1.f - u - v;
+        const Tangent &a = m.tangents[t->idx[0]], &b = m.tangents[t->idx[1]], &c = m.tangents[t->idx[2]];
+        Vec3f dir = t->place.applyVector(w * a.direction + u * b.direction + v * c.direction);
+        dir = dir - dot(dir, h.ns) * h.ns;
+        const float l = length(dir);
+        // A mirroring placement flips the handedness, as placedCopy does.
+        const float sign = t->place.determinant() < 0.f ? -a.sign : a.sign;
+        return l > 0.f && std::isfinite(l) ? Tangent{dir / l, sign} : any;
+    }
+    const std::vector<Vec2f>& uvs = uvSet == 1 && !m.uvs1.empty() ? m.uvs1 : m.uvs;
+    if (uvs.empty()) return any;
+    const Vec2f uv[3] = {uvs[t->idx[0]], uvs[t->idx[1]], uvs[t->idx[2]]};
+    return triangleTangent(t->p, uv, h.ns).value_or(any);
 }
 
 }  // namespace penumbra

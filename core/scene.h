@@ -17,6 +17,7 @@
 #include "core/mesh.h"
 #include "core/ray.h"
 #include "core/shapes.h"
+#include "core/texture_source.h"
 
 namespace penumbra {
 
@@ -66,10 +67,9 @@ public:
     std::vector<TriangleMesh> meshes;
     std::vector<PointLight> pointLights;
     std::vector<DirectionalLight> directionalLights;
-    std::vector<std::string> textures;  // resolved image paths, indexed by Material::textureIndex
-    /// The loaders' open texture files, same index as `textures` (read these, never reopen the path);
-    /// missing or null entries (scenes built in code) are opened by path. /work/notes/texture-fd.md
-    std::vector<std::shared_ptr<const InputFile>> textureFiles;
+    /// The textures materials sample (Material::textureIndex, TextureRef::texture):
+    /// files the loaders opened, images inside model files, or paths named in code.
+    std::vector<TextureSource> textures;
     Rgb ambient{0.f};                   // global ambient light La
     Rgb background{0.f};                // radiance of rays that leave the scene
     std::vector<Prototype> prototypes;  // meshes drawn only through instances (core/instance.h)
@@ -118,8 +118,29 @@ public:
     /// rounds, fresh copies, same bits).
     void completeHit(const Ray& ray, const PrimRef& ref, float t, float u, float v, Hit& h) const;
     /// Whether material id has a texture, so that its hits need texture
-    /// coordinates (Hit::uv); false for an id with no material.
-    bool textured(uint32_t id) const { return id < materials.size() && materials[id].textureIndex >= 0; }
+    /// coordinates (Hit::uv); false for an id with no material. One byte per
+    /// material, made by finalize(): the hot path reads no Material (before
+    /// finalize(), the materials are asked).
+    bool textured(uint32_t id) const {
+        return id < uvNeeded_.size() ? uvNeeded_[id] != 0 : id < materials.size() && materials[id].needsUv();
+    }
+
+    /// The second uv set at a mesh hit (Hit::uv where the mesh has no second
+    /// set or the hit is on another shape). Like tangentAt, it finds the
+    /// hit's barycentrics again from h.p, so that completeHit computes
+    /// nothing for the materials that need neither.
+    Vec2f uv1At(const Hit& h) const;
+    /// The world-space tangent at a hit, perpendicular to h.ns, with the
+    /// bitangent's sign (Tangent): interpolated from the mesh's tangents, else
+    /// the triangle's own from its uvs (uv set `uvSet`), else any perpendicular.
+    Tangent tangentAt(const Hit& h, int uvSet = 0) const;
+
+    /// The index of `source` in `textures`, added unless a texture of the same
+    /// name and colour space is there already (then `source` is dropped).
+    int addTexture(TextureSource source);
+    /// The first texture named `name`, in any colour space (its open file can
+    /// serve another), or null.
+    const TextureSource* findTexture(const std::string& name) const;
 
     /// Triangles as rendered: each instance counts its prototype's triangles.
     size_t triangleCount() const;
@@ -131,6 +152,18 @@ public:
 
 private:
     void completeInstanceHit(const PrimRef& ref, float u, float v, Hit& h) const;
+
+    /// A mesh hit's triangle: its mesh, corner indices, placement, corners in the world, barycentrics.
+    struct HitTriangle {
+        const TriangleMesh* mesh;
+        const uint32_t* idx;
+        Transform place;
+        Vec3f p[3];
+        Vec2f bary;
+    };
+    std::optional<HitTriangle> hitTriangle(const Hit& h) const;
+
+    std::vector<uint8_t> uvNeeded_;  // Material::needsUv() of each material, from finalize()
 };
 
 }  // namespace penumbra

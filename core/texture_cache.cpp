@@ -19,40 +19,82 @@
 namespace penumbra {
 namespace {
 
-// One MIP level: texels of 1 (grey) or 3 channels, 8-bit or float, row 0 on top.
+// One MIP level: texels of 1 to 4 channels (grey, grey + alpha, RGB, RGBA), 8-bit or float, row 0 on top.
 struct Level {
     int w = 0, h = 0;
     std::vector<uint8_t> u8;
     std::vector<float> f32;
 };
 
+// The texel index along an axis of n texels for the texel at (integral) v,
+// which may lie anywhere: glTF's wrap modes.
+int wrapIndex(double v, int n, TextureWrap mode) {
+    switch (mode) {
+        case TextureWrap::ClampToEdge: return v < 0.0 ? 0 : v >= double(n) ? n - 1 : int(v);
+        case TextureWrap::MirroredRepeat: {
+            double m = std::fmod(v, 2.0 * n);
+            if (m < 0) m += 2.0 * n;
+            int i = int(m);
+            if (i >= 2 * n) i = 0;
+            return i < n ? i : 2 * n - 1 - i;
+        }
+        case TextureWrap::Repeat: break;
+    }
+    const double m = std::fmod(v, double(n));
+    const int i = int(m < 0 ? m + n : m);
+    return i >= n ? 0 : i;
+}
+
+// The index after the texel at v and index i: what the bilinear filter blends with.
+int nextIndex(double v, int i, int n, TextureWrap mode) {
+    if (mode == TextureWrap::Repeat) return i + 1 == n ? 0 : i + 1;
+    return wrapIndex(v + 1.0, n, mode);
+}
+
 struct Texture {
     std::vector<Level> levels;
-    int channels = 0;  // 1 or 3
+    int channels = 0;  // 1 to 4
     bool is8bit = false;
     bool srgb = false;
     bool enabled = false;
+    bool transparent = false;  // an alpha channel with a texel below 1
 
     float texel(const Level& l, int x, int y, int c) const {
         const size_t i = (size_t(y) * size_t(l.w) + size_t(x)) * size_t(channels) + size_t(c);
         return is8bit ? float(l.u8[i]) * (1.f / 255.f) : l.f32[i];
     }
-    // Bilinear with periodic wrap; (s, t) in texture space, t pointing down the rows.
-    void bilinear(const Level& l, float s, float t, float out[3]) const {
+    // Bilinear; (s, t) in texture space, t pointing down the rows.
+    void bilinear(const Level& l, float s, float t, TextureWrap ws, TextureWrap wt, float out[4]) const {
         const float x = s * float(l.w) - 0.5f, y = t * float(l.h) - 0.5f;
         const float fx0 = std::floor(x), fy0 = std::floor(y);
         const float ax = x - fx0, ay = y - fy0;
-        auto wrap = [](float v, int n) {
-            const double m = std::fmod(double(v), double(n));
-            int i = int(m < 0 ? m + n : m);
-            return i >= n ? 0 : i;
-        };
-        const int x0 = wrap(fx0, l.w), y0 = wrap(fy0, l.h);
-        const int x1 = x0 + 1 == l.w ? 0 : x0 + 1, y1 = y0 + 1 == l.h ? 0 : y0 + 1;
+        const int x0 = wrapIndex(fx0, l.w, ws), y0 = wrapIndex(fy0, l.h, wt);
+        const int x1 = nextIndex(fx0, x0, l.w, ws), y1 = nextIndex(fy0, y0, l.h, wt);
         for (int c = 0; c < channels; ++c) {
             const float top = (1.f - ax) * texel(l, x0, y0, c) + ax * texel(l, x1, y0, c);
             const float bottom = (1.f - ax) * texel(l, x0, y1, c) + ax * texel(l, x1, y1, c);
             out[c] = (1.f - ay) * top + ay * bottom;
+        }
+    }
+    void nearest(const Level& l, float s, float t, TextureWrap ws, TextureWrap wt, float out[4]) const {
+        const int x = wrapIndex(std::floor(s * float(l.w)), l.w, ws), y = wrapIndex(std::floor(t * float(l.h)), l.h, wt);
+        for (int c = 0; c < channels; ++c) out[c] = texel(l, x, y, c);
+    }
+    // The raw channels at (s, t), trilinear over the MIP level whose texels are as wide as the footprint.
+    void filtered(float s, float t, float footprint, TextureWrap ws, TextureWrap wt, TextureFilter filter,
+                  float c[4]) const {
+        if (filter == TextureFilter::Nearest) return nearest(levels.front(), s, t, ws, wt, c);
+        const float fp = std::isfinite(footprint) && footprint > 0.f ? footprint : 0.f;
+        const Level& base = levels.front();
+        const float width = fp * float(std::max(base.w, base.h));
+        const float lod = width > 1.f ? std::min(std::log2(width), float(levels.size() - 1)) : 0.f;
+        const int l0 = int(lod);
+        const float frac = lod - float(l0);
+        bilinear(levels[size_t(l0)], s, t, ws, wt, c);
+        if (frac > 0.f && size_t(l0) + 1 < levels.size()) {
+            float n[4] = {1.f, 1.f, 1.f, 1.f};
+            bilinear(levels[size_t(l0) + 1], s, t, ws, wt, n);
+            for (int k = 0; k < channels; ++k) c[k] = (1.f - frac) * c[k] + frac * n[k];
         }
     }
 };
@@ -97,44 +139,56 @@ int openTexture(const std::string& path, std::string& why) {
     return fd;
 }
 
-// One texture on its way in: its descriptor, what the header said, and why it was refused.
+// One texture on its way in: where its bytes are, what the header said, and why it was refused.
 struct Pending {
     int fd = -1;
     bool owned = false;  // opened here (no descriptor handed over): closed here
+    const std::vector<unsigned char>* bytes = nullptr;
     bool ok = false;
     uint64_t need = 0;   // decoded bytes with MIP levels, from the header
     oiio::Decoded header;
     std::string why;
 };
 
+constexpr int kMaxChannels = 4;
+
 uint64_t bytesWithMips(const oiio::Decoded& d) {
-    const uint64_t level0 = uint64_t(d.width) * uint64_t(d.height) * uint64_t(std::min(d.channels, 3)) *
+    const uint64_t level0 = uint64_t(d.width) * uint64_t(d.height) * uint64_t(std::min(d.channels, kMaxChannels)) *
                             (d.bytesPerChannel == 1 && !d.floatData ? 1u : 4u);
     return level0 + level0 / 3;
 }
 
-// Header of `p.fd`: a regular file, an image, and within `budget` on its own.
+oiio::DecodeRequest requestFor(const Pending& p, const std::string& name) {
+    oiio::DecodeRequest rq;
+    rq.fd = p.fd;
+    if (p.bytes) {
+        rq.bytes = p.bytes->data();
+        rq.size = p.bytes->size();
+    }
+    rq.name = name;
+    rq.maxChannels = kMaxChannels;
+    rq.floatPixels = false;
+    return rq;
+}
+
+// Header of the texture: a regular file (or bytes), an image, and within `budget` on its own.
 void readHeader(const oiio::Api& api, const std::string& name, uint64_t budget, Pending& p) {
     struct stat st {};
-    if (::fstat(p.fd, &st) != 0) {
+    if (!p.bytes && ::fstat(p.fd, &st) != 0) {
         p.why = std::strerror(errno);
         return;
     }
-    if (!S_ISREG(st.st_mode)) {
+    if (!p.bytes && !S_ISREG(st.st_mode)) {
         p.why = "it is not a regular file";
         return;
     }
-    oiio::DecodeRequest rq;
-    rq.fd = p.fd;
-    rq.name = name;
-    rq.maxChannels = 3;
-    rq.floatPixels = false;
+    oiio::DecodeRequest rq = requestFor(p, name);
     rq.maxBytes = std::max<uint64_t>(1, budget / 4 * 3);
     rq.headerOnly = true;
     const oiio::Status status = api.decode(rq, p.header, p.why);
     if (status == oiio::Status::OverBudget && p.header.width == 0) {
-        p.why = "the file alone is " + mib(double(p.header.fileBytes)) + ", more than the " + mib(double(budget)) +
-                " texture budget";
+        p.why = std::string(p.bytes ? "the encoded image" : "the file") + " alone is " + mib(double(p.header.fileBytes)) +
+                ", more than the " + mib(double(budget)) + " texture budget";
         return;
     }
     p.need = bytesWithMips(p.header);
@@ -143,46 +197,49 @@ void readHeader(const oiio::Api& api, const std::string& name, uint64_t budget, 
     p.ok = true;
 }
 
+// Whether the colour channels are sRGB-encoded: as the source says, else as
+// the file says through oiio:ColorSpace; without a word, 8-bit images are
+// taken to be sRGB (what PNG and JPEG textures almost always are).
+bool isSrgb(TextureColorSpace space, const oiio::Decoded& d) {
+    if (space != TextureColorSpace::FromFile) return space == TextureColorSpace::Srgb;
+    const std::string& cs = d.colorSpace;
+    if (cs.empty()) return d.bytesPerChannel == 1 && !d.floatData;
+    return cs.size() >= 4 && (cs.compare(0, 4, "sRGB") == 0 || cs.compare(0, 4, "srgb") == 0 || cs.compare(0, 4, "SRGB") == 0);
+}
+
+bool anyTransparent(const Level& l, int channels, bool is8bit) {
+    if (channels != 2 && channels != 4) return false;
+    const size_t n = size_t(l.w) * size_t(l.h);
+    for (size_t i = 0; i < n; ++i) {
+        const size_t a = i * size_t(channels) + size_t(channels - 1);
+        if (is8bit ? l.u8[a] < 255 : l.f32[a] < 1.f) return true;
+    }
+    return false;
+}
+
 // Decodes `p` completely and MIP-maps it; false with p.why.
-bool decodePixels(const oiio::Api& api, const std::string& name, Pending& p, Texture& tex) {
-    oiio::DecodeRequest rq;
-    rq.fd = p.fd;
-    rq.name = name;
-    rq.maxChannels = 3;
-    rq.floatPixels = false;
+bool decodePixels(const oiio::Api& api, const std::string& name, TextureColorSpace space, Pending& p, Texture& tex) {
+    oiio::DecodeRequest rq = requestFor(p, name);
     rq.maxBytes = p.need;  // the file may have changed since its header was read
     oiio::Decoded d;
     const oiio::Status status = api.decode(rq, d, p.why);
     if (status == oiio::Status::OverBudget) p.why = "it grew past the texture budget while being read";
     if (status != oiio::Status::Ok) return false;
     tex.is8bit = d.type == oiio::PixelType::U8;
-    tex.channels = d.decodedChannels >= 3 ? 3 : 1;
-    // Files say what they hold through oiio:ColorSpace; without it, 8-bit
-    // images are taken to be sRGB (what PNG and JPEG textures almost always are).
-    const std::string& cs = d.colorSpace;
-    tex.srgb = !cs.empty() ? (cs.size() >= 4 && (cs.compare(0, 4, "sRGB") == 0 || cs.compare(0, 4, "srgb") == 0 ||
-                                                 cs.compare(0, 4, "SRGB") == 0))
-                           : (d.bytesPerChannel == 1 && !d.floatData);
+    tex.channels = std::clamp(d.decodedChannels, 1, kMaxChannels);
+    tex.srgb = isSrgb(space, d);
     Level base;
     base.w = d.width;
     base.h = d.height;
-    const size_t texels = size_t(d.width) * size_t(d.height);
-    // Keep channel 0 of grey (+ alpha) images, the first three of colour ones.
-    const int srcCh = d.decodedChannels;
     if (tex.is8bit) {
-        if (srcCh == tex.channels) base.u8 = std::move(d.pixels);
-        else {
-            base.u8.resize(texels * size_t(tex.channels));
-            for (size_t i = 0; i < texels; ++i)
-                for (int c = 0; c < tex.channels; ++c) base.u8[i * tex.channels + c] = d.pixels[i * srcCh + c];
-        }
+        base.u8 = std::move(d.pixels);
     } else {
-        base.f32.resize(texels * size_t(tex.channels));
-        const float* src = reinterpret_cast<const float*>(d.pixels.data());
-        for (size_t i = 0; i < texels; ++i)
-            for (int c = 0; c < tex.channels; ++c) base.f32[i * tex.channels + c] = src[i * srcCh + c];
+        const size_t n = size_t(d.width) * size_t(d.height) * size_t(tex.channels);
+        base.f32.resize(n);
+        std::memcpy(base.f32.data(), d.pixels.data(), n * sizeof(float));
     }
     d.pixels = {};
+    tex.transparent = anyTransparent(base, tex.channels, tex.is8bit);
     tex.levels.push_back(std::move(base));
     while (tex.levels.back().w > 1 || tex.levels.back().h > 1)
         tex.levels.push_back(downsample(tex.levels.back(), tex.channels, tex.is8bit));
@@ -194,12 +251,17 @@ bool decodePixels(const oiio::Api& api, const std::string& name, Pending& p, Tex
 struct TextureCache::Impl {
     std::vector<Texture> textures;
     uint64_t bytes = 0;
+
+    const Texture* usable(int texture) const {
+        return texture >= 0 && size_t(texture) < textures.size() && textures[size_t(texture)].enabled
+                   ? &textures[size_t(texture)]
+                   : nullptr;
+    }
 };
 
-TextureCache::TextureCache(const std::vector<std::string>& paths, const Logger& log, const std::vector<int>& fds,
-                           TextureBudget budget)
+TextureCache::TextureCache(const std::vector<TextureSource>& sources, const Logger& log, TextureBudget budget)
     : impl_(std::make_unique<Impl>()) {
-    const size_t n = paths.size();
+    const size_t n = sources.size();
     impl_->textures.resize(n);
     std::vector<Pending> pending(n);
     const oiio::Api* api = nullptr;
@@ -213,19 +275,22 @@ TextureCache::TextureCache(const std::vector<std::string>& paths, const Logger& 
     }
     for (size_t i = 0; i < n; ++i) {
         Pending& p = pending[i];
-        if (i < fds.size() && fds[i] >= 0) {
-            p.fd = fds[i];
+        const TextureSource& s = sources[i];
+        if (s.bytes) {
+            p.bytes = s.bytes.get();
+        } else if (s.fd >= 0) {
+            p.fd = s.fd;
         } else {
-            p.fd = openTexture(paths[i], p.why);
+            p.fd = openTexture(s.name, p.why);
             p.owned = p.fd >= 0;
         }
-        if (!api && p.fd >= 0) p.why = noModule;
+        if (!api && (p.fd >= 0 || p.bytes)) p.why = noModule;
     }
     // Headers in parallel, then the budget in texture order (the same textures
     // fit whatever the thread count), then the pixels of those that fit in parallel.
     if (api)
         parallelFor(n, 0, [&](size_t i) {
-            if (pending[i].fd >= 0) readHeader(*api, paths[i], budget.maxBytes, pending[i]);
+            if (pending[i].fd >= 0 || pending[i].bytes) readHeader(*api, sources[i].name, budget.maxBytes, pending[i]);
         });
     uint64_t total = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -246,7 +311,7 @@ TextureCache::TextureCache(const std::vector<std::string>& paths, const Logger& 
             Pending& p = pending[i];
             if (!p.ok) return;
             try {
-                p.ok = decodePixels(*api, paths[i], p, impl_->textures[i]);
+                p.ok = decodePixels(*api, sources[i].name, sources[i].colorSpace, p, impl_->textures[i]);
             } catch (const std::bad_alloc&) {
                 p.ok = false;
                 p.why = "out of memory while decoding it";
@@ -259,7 +324,7 @@ TextureCache::TextureCache(const std::vector<std::string>& paths, const Logger& 
         Texture& tex = impl_->textures[i];
         if (!p.ok) {
             std::replace(p.why.begin(), p.why.end(), '\n', ' ');  // keep the warning on one line
-            log.warn(paths[i] + ": cannot read texture" + (p.why.empty() ? std::string() : " (" + p.why + ")") +
+            log.warn(sources[i].name + ": cannot read texture" + (p.why.empty() ? std::string() : " (" + p.why + ")") +
                      "; rendering without it");
             continue;
         }
@@ -274,33 +339,66 @@ size_t TextureCache::size() const { return impl_->textures.size(); }
 
 uint64_t TextureCache::memoryBytes() const { return impl_->bytes; }
 
-bool TextureCache::enabled(int texture) const {
-    return texture >= 0 && static_cast<size_t>(texture) < impl_->textures.size() && impl_->textures[texture].enabled;
+bool TextureCache::enabled(int texture) const { return impl_->usable(texture) != nullptr; }
+
+bool TextureCache::hasTransparency(int texture) const {
+    const Texture* tex = impl_->usable(texture);
+    return tex && tex->transparent;
 }
 
 Rgb TextureCache::lookup(int texture, Vec2f uv, float footprint) const {
-    if (!enabled(texture) || !std::isfinite(uv.x) || !std::isfinite(uv.y)) return Rgb(1.f);
-    const Texture& tex = impl_->textures[texture];
-    const float fp = std::isfinite(footprint) && footprint > 0.f ? footprint : 0.f;
+    const Texture* tex = impl_->usable(texture);
+    if (!tex || !std::isfinite(uv.x) || !std::isfinite(uv.y)) return Rgb(1.f);
     // OBJ texture coordinates have v pointing up; image rows go down.
-    const float s = uv.x, t = 1.f - uv.y;
-    // The level whose texels are as wide as the footprint, blended with the next.
-    const Level& base = tex.levels.front();
-    const float width = fp * float(std::max(base.w, base.h));
-    const float lod = width > 1.f ? std::min(std::log2(width), float(tex.levels.size() - 1)) : 0.f;
-    const int l0 = int(lod);
-    const float frac = lod - float(l0);
-    float c[3] = {1.f, 1.f, 1.f};
-    tex.bilinear(tex.levels[size_t(l0)], s, t, c);
-    if (frac > 0.f && size_t(l0) + 1 < tex.levels.size()) {
-        float n[3] = {1.f, 1.f, 1.f};
-        tex.bilinear(tex.levels[size_t(l0) + 1], s, t, n);
-        for (int k = 0; k < tex.channels; ++k) c[k] = (1.f - frac) * c[k] + frac * n[k];
-    }
-    if (tex.channels < 3) c[1] = c[2] = c[0];
-    if (tex.srgb)
-        for (float& v : c) v = srgbToLinear(std::clamp(v, 0.f, 1.f));
+    float c[4] = {1.f, 1.f, 1.f, 1.f};
+    tex->filtered(uv.x, 1.f - uv.y, footprint, TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Linear, c);
+    if (tex->channels < 3) c[1] = c[2] = c[0];
+    if (tex->srgb)
+        for (int k = 0; k < 3; ++k) c[k] = srgbToLinear(std::clamp(c[k], 0.f, 1.f));
     return {c[0], c[1], c[2]};
+}
+
+Rgba TextureCache::sample(const TextureRef& slot, Vec2f uv, float footprint) const {
+    const Texture* tex = impl_->usable(slot.texture);
+    if (!tex || !std::isfinite(uv.x) || !std::isfinite(uv.y)) return {};
+    const Vec2f st = slot.imageCoordinates(uv);
+    if (!std::isfinite(st.x) || !std::isfinite(st.y)) return {};
+    // The transform stretches the footprint by the square root of its area scale.
+    const float stretch = std::sqrt(std::fabs(slot.m[0] * slot.m[4] - slot.m[1] * slot.m[3]));
+    float c[4] = {1.f, 1.f, 1.f, 1.f};
+    tex->filtered(st.x, st.y, footprint * stretch, slot.wrapS, slot.wrapT, slot.filter, c);
+    Rgba out;
+    switch (tex->channels) {
+        case 1: out = {Rgb(c[0]), 1.f}; break;
+        case 2: out = {Rgb(c[0]), c[1]}; break;
+        case 3: out = {Rgb(c[0], c[1], c[2]), 1.f}; break;
+        default: out = {Rgb(c[0], c[1], c[2]), c[3]}; break;
+    }
+    if (tex->srgb) {
+        out.rgb.r = srgbToLinear(std::clamp(out.rgb.r, 0.f, 1.f));
+        out.rgb.g = srgbToLinear(std::clamp(out.rgb.g, 0.f, 1.f));
+        out.rgb.b = srgbToLinear(std::clamp(out.rgb.b, 0.f, 1.f));
+    }
+    return out;
+}
+
+float TextureCache::sampleChannel(const TextureRef& slot, Vec2f uv, float footprint) const {
+    const Rgba t = sample(slot, uv, footprint);
+    const Texture* tex = impl_->usable(slot.texture);
+    switch (slot.channel) {
+        case 0: return t.rgb.r;
+        case 1: return t.rgb.g;
+        case 2: return t.rgb.b;
+        default: return tex && (tex->channels == 2 || tex->channels == 4) ? t.a : t.rgb.r;  // MTL's matte channel
+    }
+}
+
+Vec3f TextureCache::sampleNormal(const TextureRef& slot, Vec2f uv, float footprint, float scale) const {
+    if (!impl_->usable(slot.texture)) return {0.f, 0.f, 1.f};
+    const Rgb c = sample(slot, uv, footprint).rgb;
+    const Vec3f n{(2.f * c.r - 1.f) * scale, (2.f * c.g - 1.f) * scale, 2.f * c.b - 1.f};
+    const float l = length(n);
+    return l > 0.f && std::isfinite(l) ? n / l : Vec3f{0.f, 0.f, 1.f};
 }
 
 }  // namespace penumbra

@@ -58,13 +58,9 @@ PreparedScene::PreparedScene(Scene scene, const PrepareOptions& options, const L
     if (scene_.environment && !scene_.environment->image.empty())
         environmentImage = readEnvironmentImage(*scene_.environment, log);
     lights_ = std::make_unique<LightSet>(scene_, std::move(environmentImage));
-    if (!scene_.textures.empty()) {
-        // Textures are read from the files the loader opened right after its path check, never
-        // reopened by name (a file swapped in since then is not read).
-        std::vector<int> textureFds;
-        for (const auto& file : scene_.textureFiles) textureFds.push_back(file ? file->fd() : -1);
-        textures_ = std::make_unique<TextureCache>(scene_.textures, log, textureFds);
-    }
+    // Textures are read from the files the loader opened right after its path check (never
+    // reopened by name: a file swapped in since then is not read) or from their bytes.
+    if (!scene_.textures.empty()) textures_ = std::make_unique<TextureCache>(scene_.textures, log);
     buildSeconds_ = secondsSince(t0);
 }
 

@@ -30,7 +30,6 @@
 #include <tuple>
 
 #include "core/error.h"
-#include "core/io/gltf_checks.h"
 #include "core/io/off_checks.h"
 #include "core/io/mesh_options.h"
 #include "core/io/mtl_materials.h"
@@ -218,27 +217,6 @@ MtlMaterial phongOf(const aiMaterial& a, const fs::path& file, const Logger& log
             m.diffuseTexture = t;
     }
     return m;
-}
-
-/// Keeps the vertices that triangles use (positions, normals and UVs alike), in
-/// their order, and renumbers the indices.
-void keepUsedVertices(TriangleMesh& m) {
-    constexpr uint32_t kUnused = UINT32_MAX;
-    std::vector<uint32_t> to(m.positions.size(), kUnused);
-    for (uint32_t i : m.indices) to[i] = 0;
-    uint32_t next = 0;
-    for (uint32_t& t : to)
-        if (t != kUnused) t = next++;
-    auto keep = [&](auto& values) {
-        if (values.size() != to.size()) return;
-        for (size_t v = 0; v < to.size(); ++v)
-            if (to[v] != kUnused) values[to[v]] = values[v];
-        values.resize(next);
-    };
-    keep(m.positions);
-    keep(m.normals);
-    keep(m.uvs);
-    for (uint32_t& i : m.indices) i = to[i];
 }
 
 /// Per-triangle colour from the first vertex-colour set, quantised to 8 bits
@@ -450,7 +428,6 @@ std::optional<std::string> stlTextProblem(const std::string& bytes) {
 std::optional<std::string> knownProblem(const std::string& format, const std::string& bytes) {
     if (format == "ply") return plyHeaderProblem(bytes);
     if (format == "stl") return stlTextProblem(bytes);
-    if (format == "gltf" || format == "glb") return gltfProblem(bytes);
     if (format == "off") return offHeaderProblem(bytes);
     return std::nullopt;
 }

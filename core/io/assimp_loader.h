@@ -1,5 +1,5 @@
-// Mesh and scene files read through Assimp (PLY, STL, glTF 2.0, FBX, COLLADA
-// and the other formats it reads; docs/mtl-mapping.md, "Assimp formats").
+// Mesh and scene files read through Assimp (PLY, STL, FBX, COLLADA and the
+// other formats it reads, glTF excepted; docs/mtl-mapping.md, "Assimp formats").
 // Every file, the model and what it references, is read through the path
 // policy and opened once (input_file.h): Assimp never opens a path itself.
 #pragma once
@@ -10,19 +10,13 @@
 
 #include "core/camera.h"
 #include "core/io/input_file.h"
+#include "core/io/model_extras.h"
 #include "core/io/obj_faces.h"
 #include "core/log.h"
 #include "core/scene.h"
 #include "core/transform.h"
 
 namespace penumbra {
-
-/// What a model file says beyond its meshes and materials.
-struct ModelExtras {
-    std::optional<CameraDesc> camera;  // its first camera, in world space
-    std::vector<PointLight> pointLights;
-    std::vector<DirectionalLight> directionalLights;
-};
 
 /// Whether Assimp reads files with this extension (".ply", any case).
 bool assimpReadsExtension(const std::string& extension);

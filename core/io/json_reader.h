@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,6 +43,7 @@ private:
     const Json& require(const Json& obj, const std::string& ptr, const char* key, const char* what) const;
     /// Rejects keys outside `allowed`, listing the accepted ones.
     void checkKeys(const Json& obj, const std::string& ptr, Keys allowed) const;
+    void checkKeys(const Json& obj, const std::string& ptr, std::span<const std::string_view> allowed) const;
     void expectObject(const Json& j, const std::string& ptr) const;
     /// A finite number (finite also after narrowing to float).
     float number(const Json& j, const std::string& ptr) const;
@@ -67,9 +69,19 @@ private:
     void readMaterials(const Json& j, const std::string& ptr, Scene& scene);
     void addMaterial(Material m, const std::string& ptr, Scene& scene);
     Material readMaterial(const Json& j, const std::string& ptr, const std::string& name, bool named, Scene& scene);
+    void readPhong(const Json& j, const std::string& ptr, Material& m, Scene& scene);
+    void readMetalRoughness(const Json& j, const std::string& ptr, Material& m, Scene& scene);
+    /// The keys of both models: normal or bump map, emission map, opacity, alpha mode.
+    void readSharedMaps(const Json& j, const std::string& ptr, Material& m, Scene& scene);
+    /// The texture slot material[key] (a file name, or an object with "file"
+    /// and sampling keys) into `slot`, resolved; an unused ref when absent.
+    TextureRef textureSlot(const Json& material, const std::string& materialPtr, const char* key,
+                           TextureColorSpace space, int defaultChannel, TextureSlot& slot, Scene& scene);
+    /// texture() for a slot's file; the slot's path becomes the file's (empty when unusable).
+    int slotFile(const Json& j, const std::string& ptr, TextureColorSpace space, TextureSlot& slot, Scene& scene) const;
     /// Index of the texture in Scene::textures (shared by materials naming the
     /// same file), or -1 when the file is missing and that is only a warning.
-    int texture(const Json& j, const std::string& ptr, Scene& scene) const;
+    int texture(const Json& j, const std::string& ptr, Scene& scene, TextureColorSpace space) const;
     /// The material a shape without "material" gets: the file's "default", or a new grey one.
     uint32_t defaultMaterial(Scene& scene);
     uint32_t emissiveCopy(uint32_t base, const Rgb& ke, const std::string& ptr, Scene& scene) const;

@@ -45,6 +45,10 @@ const Json& SceneReader::require(const Json& obj, const std::string& ptr, const 
 }
 
 void SceneReader::checkKeys(const Json& obj, const std::string& ptr, Keys allowed) const {
+    checkKeys(obj, ptr, std::span<const std::string_view>(allowed.begin(), allowed.size()));
+}
+
+void SceneReader::checkKeys(const Json& obj, const std::string& ptr, std::span<const std::string_view> allowed) const {
     for (auto it = obj.begin(); it != obj.end(); ++it) {
         bool known = false;
         for (std::string_view k : allowed) known = known || it.key() == k;

@@ -5,6 +5,7 @@
 #include <new>
 
 #include "core/error.h"
+#include "core/io/gltf_loader.h"
 #include "core/io/obj_loader.h"
 
 namespace penumbra {
@@ -23,13 +24,13 @@ std::string lowerExtension(const fs::path& p) {
 bool isModelExtension(const std::string& extension) {
     std::string e = extension;
     std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-    return e == ".obj" || (e != ".json" && assimpReadsExtension(e));
+    return e == ".obj" || isGltfExtension(e) || (e != ".json" && assimpReadsExtension(e));
 }
 
 std::string modelFormatsText() {
-    std::string text = ".obj";
+    std::string text = ".obj, .gltf, .glb";
     for (const std::string& e : assimpExtensions())
-        if (e != ".obj" && e != ".json") text += ", " + e;
+        if (e != ".obj" && e != ".json" && !isGltfExtension(e)) text += ", " + e;
     return text;
 }
 
@@ -39,6 +40,8 @@ ModelFile appendModelFile(Scene& scene, const InputFile& model, const Transform&
     ModelFile out;
     if (ext == ".obj") {
         out.stats = appendObj(scene, model, worldFromObject, options, log);
+    } else if (isGltfExtension(ext)) {
+        out.stats = appendGltf(scene, model, worldFromObject, options, log, out.extras);
     } else if (isModelExtension(ext)) {
         out.stats = appendAssimp(scene, model, worldFromObject, options, log, out.extras);
     } else {

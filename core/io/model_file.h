@@ -1,5 +1,5 @@
-// Mesh and model files, by extension: OBJ/MTL (obj_loader.h) or the formats
-// Assimp reads (assimp_loader.h). What the command line renders on its own
+// Mesh and model files, by extension: OBJ/MTL (obj_loader.h), glTF
+// (gltf_loader.h) or the other formats Assimp reads (assimp_loader.h). What the command line renders on its own
 // and what a JSON `mesh` entry's "file" names.
 #pragma once
 
@@ -21,10 +21,10 @@ struct ModelFile {
     ModelExtras extras;
 };
 
-/// Whether the extension (".ply", any case) is .obj or one Assimp reads.
+/// Whether the extension (".ply", any case) is .obj, glTF's or one Assimp reads.
 bool isModelExtension(const std::string& extension);
 
-/// ".obj" and Assimp's extensions, comma-separated, for error messages.
+/// ".obj", glTF's and Assimp's other extensions, comma-separated, for error messages.
 std::string modelFormatsText();
 
 /// Appends the model's meshes and materials, dispatching on model.path()'s

@@ -96,11 +96,72 @@ Material MaterialConverter::convert(const MtlMaterial& t) {
             log_.warn(name(mtl) + ": ignoring unknown MTL key '" + printable(key) + "'");
     }
 
-    if (!t.diffuseTexture.empty()) {
-        m.textureIndex = texture(t.diffuseTexture, mtl, where);
-        if (m.textureIndex >= 0) m.diffuseTexture = scene_.textures[size_t(m.textureIndex)];
-    }
+    m.diffuseTexture = t.diffuseTexture;
+    const Rgb ke = m.ke;
+    addMaps(t, m, where);
+    bindTextures(m, [&](std::string& path, TextureColorSpace space) { return texture(path, space, mtl, where); });
+    if (!m.emissiveMap.used()) m.ke = ke;  // an emission map that cannot be used does not make the surface glow
     return m;
+}
+
+namespace {
+
+/// MTL's -imfchan as a slot channel: r, g, b; m (matte) and the default read
+/// the alpha channel, which is channel 0 in an image without alpha.
+int channelOf(char imfchan) { return imfchan == 'g' ? 1 : imfchan == 'b' ? 2 : imfchan == 'r' || imfchan == 'l' || imfchan == 'z' ? 0 : 3; }
+
+/// A texture statement as a slot: MTL's -o and -s work on (u, v) with v up;
+/// in image coordinates (s, t = 1 - v) they scale t by the same factor and
+/// offset it by 1 - scale - offset.
+TextureSlot slotOf(const MtlTexture& t, char defaultChannel) {
+    TextureSlot s;
+    s.path = t.name;
+    s.channel = channelOf(t.channel ? t.channel : defaultChannel);
+    s.scale[0] = t.scale[0];
+    s.scale[1] = t.scale[1];
+    s.offset[0] = t.offset[0];
+    s.offset[1] = 1.f - t.scale[1] - t.offset[1];
+    if (t.clamp) s.wrapS = s.wrapT = TextureWrap::ClampToEdge;
+    return s;
+}
+
+}  // namespace
+
+void MaterialConverter::addMaps(const MtlMaterial& t, Material& m, const std::string& where) {
+    if (!t.emissiveMap.name.empty()) {
+        m.emissiveTexture = slotOf(t.emissiveMap, 'm');
+        // The map is the emission: Ke 0 (or none) with a map_Ke means Ke 1; -mm's gain scales it.
+        if (Rgb(m.ke).isBlack()) m.ke = Rgb(1.f);
+        if (std::isfinite(t.emissiveMap.gain) && t.emissiveMap.gain >= 0.f) m.ke = Rgb(m.ke) * t.emissiveMap.gain;
+    }
+    if (!t.alphaMap.name.empty()) m.opacityTexture = slotOf(t.alphaMap, 'm');
+    // Alpha cuts out where map_d, or the alpha channel of map_Kd, is below one half.
+    if (!t.alphaMap.name.empty() || !t.diffuseTexture.empty()) m.alphaMode = AlphaMode::Mask;
+    const MtlTexture& normal = !t.normalMap.name.empty() ? t.normalMap : t.bumpMap;
+    if (!normal.name.empty()) {
+        m.normalTexture = slotOf(normal, 'l');
+        m.bumpMap = t.normalMap.name.empty();
+        m.normalScale = std::isfinite(normal.bumpMultiplier) ? normal.bumpMultiplier : 1.f;
+        if (!t.normalMap.name.empty() && !t.bumpMap.name.empty())
+            log_.warn(where + ": both 'norm' and a bump map; using the normal map '" + printable(t.normalMap.name) + "'");
+    }
+    // The PBR extension keys make it a metal-roughness material: Kd and map_Kd
+    // are its base colour; a map without its factor has the factor 1; the
+    // Phong terms stay as the MTL gives them (what renders until the
+    // renderer shades metal-roughness).
+    const bool pbr = t.roughness != 0.f || t.metallic != 0.f || !t.roughnessMap.name.empty() || !t.metallicMap.name.empty();
+    if (!pbr) return;
+    m.kind = MaterialKind::MetalRoughness;
+    m.baseColor = m.kd;
+    if (!t.diffuseTexture.empty()) m.baseColorTexture.path = t.diffuseTexture;
+    auto unit = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.f, 1.f) : 0.f; };
+    m.metallic = !t.metallicMap.name.empty() && t.metallic == 0.f ? 1.f : unit(t.metallic);
+    // Without Pr, the roughness of the Phong exponent's lobe: alpha^2 = 2 / (Ns + 2), roughness = sqrt(alpha).
+    m.roughness = !t.roughnessMap.name.empty() && t.roughness == 0.f ? 1.f
+                  : t.roughness != 0.f                               ? unit(t.roughness)
+                                                                     : std::sqrt(std::sqrt(2.f / (m.exponent + 2.f)));
+    if (!t.metallicMap.name.empty()) m.metallicTexture = slotOf(t.metallicMap, 'm');
+    if (!t.roughnessMap.name.empty()) m.roughnessTexture = slotOf(t.roughnessMap, 'm');
 }
 
 uint32_t MaterialConverter::defaultMaterial() {
@@ -132,7 +193,8 @@ void MaterialConverter::note(std::string& list, const std::string& where, int il
     list += where + " illum " + std::to_string(illum);
 }
 
-int MaterialConverter::texture(const std::string& texName, const fs::path& mtl, const std::string& where) {
+int MaterialConverter::texture(std::string& texName, TextureColorSpace space, const fs::path& mtl,
+                               const std::string& where) {
     std::string rel = texName;
     std::replace(rel.begin(), rel.end(), '\\', '/');
     rel = std::string(trim(rel));
@@ -141,10 +203,12 @@ int MaterialConverter::texture(const std::string& texName, const fs::path& mtl, 
     // Checked before probing the file system, and again (by the open) for the file matched.
     checkPathAllowed(relPath.is_absolute() ? relPath : dir / relPath, options_, /*willRead=*/false);
     std::optional<fs::path> file = resolveCaseInsensitive(dir, relPath);
-    std::string path = file ? file->string() : std::string();
-    if (file) {
-        auto it = std::find(scene_.textures.begin(), scene_.textures.end(), path);
-        if (it != scene_.textures.end()) return static_cast<int>(it - scene_.textures.begin());
+    const std::string path = file ? file->string() : std::string();
+    if (const TextureSource* known = file ? scene_.findTexture(path) : nullptr) {
+        TextureSource again = *known;  // the file opened for another slot serves this one too
+        again.colorSpace = space;
+        texName = path;
+        return scene_.addTexture(std::move(again));
     }
     // Opened here, once; the texture side reads this descriptor (texture-fd interface).
     std::shared_ptr<const InputFile> in;
@@ -156,16 +220,15 @@ int MaterialConverter::texture(const std::string& texName, const fs::path& mtl, 
         if (missingTextures_.insert(name(mtl) + "\n" + rel).second) {
             if (e.code() == ErrorCode::FileNotFound)
                 log_.warn(where + ": texture '" + rel + "' not found (looked in " + name(dir.empty() ? "." : dir) +
-                          "); using Kd without texture");
+                          "); rendering without it");
             else
-                log_.warn(where + ": texture " + e.what() + "; using Kd without texture");
+                log_.warn(where + ": texture " + e.what() + "; rendering without it");
         }
         return -1;
     }
-    scene_.textures.push_back(path);
-    scene_.textureFiles.resize(scene_.textures.size());
-    scene_.textureFiles.back() = std::move(in);
-    return static_cast<int>(scene_.textures.size() - 1);
+    texName = path;
+    const int fd = in->fd();
+    return scene_.addTexture(TextureSource{path, space, fd, std::move(in), nullptr});
 }
 
 }  // namespace penumbra

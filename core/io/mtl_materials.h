@@ -1,6 +1,6 @@
 // MTL materials as Penumbra materials (docs/mtl-mapping.md): Phong terms,
-// illum models, emission, diffuse textures (opened here, handed on by fd),
-// and the warnings for what is not supported, each kind once per OBJ.
+// illum models, emission, the PBR extension keys, textures (opened here,
+// handed on by fd) and the warnings for what is not supported, each kind once per OBJ.
 #pragma once
 
 #include <cstddef>
@@ -19,6 +19,17 @@
 
 namespace penumbra {
 
+/// A texture statement's file and the options of it Penumbra reads.
+struct MtlTexture {
+    std::string name;                          // as written; empty = none
+    float offset[2] = {0.f, 0.f};              // -o u v
+    float scale[2] = {1.f, 1.f};               // -s u v
+    bool clamp = false;                        // -clamp on
+    char channel = 0;                          // -imfchan r, g, b, m, l or z; 0: the statement's default
+    float gain = 1.f, base = 0.f;              // -mm base gain
+    float bumpMultiplier = 1.f;                // -bm
+};
+
 /// One `newmtl` block as read from its file (tinyobjloader's fields, copied out).
 struct MtlMaterial {
     std::string name;
@@ -33,6 +44,12 @@ struct MtlMaterial {
     int illum = 0;
     std::vector<std::string> unknownKeys;  // sorted, each once
     std::string diffuseTexture;            // map_Kd as written
+    MtlTexture emissiveMap;                // map_Ke
+    MtlTexture alphaMap;                   // map_d
+    MtlTexture bumpMap;                    // bump, map_Bump (a height map)
+    MtlTexture normalMap;                  // norm (a tangent-space normal map)
+    MtlTexture roughnessMap, metallicMap;  // map_Pr, map_Pm
+    float roughness = 0.f, metallic = 0.f; // Pr, Pm (0 when absent: tinyobjloader does not tell)
 };
 
 /// Converts the MTL materials and resolves their diffuse textures.
@@ -52,8 +69,12 @@ public:
 
 private:
     static void note(std::string& list, const std::string& where, int illum);
-    /// Index in Scene::textures, or -1 (with one warning) when the file cannot be used.
-    int texture(const std::string& texName, const std::filesystem::path& mtl, const std::string& where);
+    /// Index in Scene::textures, or -1 (with one warning) when the file cannot be used;
+    /// `texName` becomes the path of the file found.
+    int texture(std::string& texName, TextureColorSpace space, const std::filesystem::path& mtl,
+                const std::string& where);
+    /// The texture statements other than map_Kd, as texture slots (paths as written).
+    void addMaps(const MtlMaterial& t, Material& m, const std::string& where);
 
     Scene& scene_;
     std::filesystem::path obj_;

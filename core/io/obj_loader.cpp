@@ -80,6 +80,18 @@ MtlMaterial copyOut(const tinyobj::material_t& t, const fs::path& file) {
     m.illum = t.illum;
     for (const auto& kv : t.unknown_parameter) m.unknownKeys.push_back(kv.first);
     m.diffuseTexture = t.diffuse_texname;
+    auto map = [](const std::string& name, const tinyobj::texture_option_t& o) {
+        return MtlTexture{name,    {o.origin_offset[0], o.origin_offset[1]}, {o.scale[0], o.scale[1]}, o.clamp,
+                          o.imfchan, o.contrast, o.brightness, o.bump_multiplier};
+    };
+    m.emissiveMap = map(t.emissive_texname, t.emissive_texopt);
+    m.alphaMap = map(t.alpha_texname, t.alpha_texopt);
+    m.bumpMap = map(t.bump_texname, t.bump_texopt);
+    m.normalMap = map(t.normal_texname, t.normal_texopt);
+    m.roughnessMap = map(t.roughness_texname, t.roughness_texopt);
+    m.metallicMap = map(t.metallic_texname, t.metallic_texopt);
+    m.roughness = t.roughness;
+    m.metallic = t.metallic;
     return m;
 }
 

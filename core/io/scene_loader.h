@@ -20,8 +20,10 @@ namespace penumbra {
 /// an unknown one is an error naming the file and listing the supported formats.
 LoadedScene loadScene(const std::filesystem::path& path, const LoadOptions& options, const Logger& log);
 
-/// A camera that frames the scene's bounds (used for OBJ files without camera options):
-/// looks along -z at the bounds' centre from far enough to see the whole box.
+/// A camera that frames the scene's bounds (used for scene files without a camera):
+/// looks along -z at the bounds' centre from far enough to see the whole box,
+/// or, where the box's face towards +z is small (a model seen edge-on from
+/// the front), from a raised three-quarter view (45 degrees round towards +x, 30 up).
 CameraDesc frameBounds(const Bounds3f& bounds, float vfovDegrees, float aspect);
 
 }  // namespace penumbra

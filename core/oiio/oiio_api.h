@@ -14,7 +14,7 @@
 
 namespace penumbra::oiio {
 
-inline constexpr int kApiVersion = 1;
+inline constexpr int kApiVersion = 2;
 /// The symbol libpenumbra looks up with dlsym; its type is `const Api* ()`.
 inline constexpr const char* kEntryPoint = "penumbra_oiio_api";
 
@@ -61,6 +61,8 @@ enum class Status : int { Ok, Failed, OverBudget };
 
 struct DecodeRequest {
     int fd = -1;             // read with pread only; neither closed nor reopened
+    const unsigned char* bytes = nullptr;  // or the encoded image in memory (then fd is not read)
+    size_t size = 0;
     std::string name;        // the file's name: picks the reader by extension, names it in errors
     int maxChannels = 0;     // decode channels [0, min(file, maxChannels)); 0: all
     bool floatPixels = true; // false: 8-bit files decode as U8, others as F32
@@ -74,8 +76,8 @@ struct Api {
     /// libraries). False with `error` on failure; never throws. The caller
     /// keeps JPEG within 65500 pixels a side (libjpeg exits the process beyond).
     bool (*encode)(const EncodeRequest& request, std::vector<unsigned char>& out, std::string& error) noexcept;
-    /// Reads the file into memory (OverBudget with fileBytes if the file alone
-    /// exceeds maxBytes + 1 MiB), reads the header, checks the budget before
+    /// Reads the file into memory, or takes the request's bytes (OverBudget
+    /// with fileBytes if they alone exceed maxBytes + 1 MiB), reads the header, checks the budget before
     /// any pixel is decoded (OverBudget, header fields filled), then decodes
     /// the whole image; a truncated or corrupt file is Failed with the
     /// library's message.

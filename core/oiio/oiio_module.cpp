@@ -1,8 +1,8 @@
 // libpenumbra_oiio.so: OpenImageIO behind the table of core/oiio/oiio_api.h.
 // The only file of Penumbra that includes OpenImageIO. Encoding goes to memory
 // (MemoryFile) so that a full disk never reaches libpng, libjpeg or libtiff;
-// decoding reads a descriptor handed over by libpenumbra (pread, into memory),
-// never a path.
+// decoding reads a descriptor handed over by libpenumbra (pread, into memory)
+// or bytes it holds (an image inside a model file), never a path.
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -166,15 +166,24 @@ Status decode(const DecodeRequest& rq, Decoded& out, std::string& error) noexcep
         // a file beyond the pixel budget (plus 1 MiB) cannot fit it.
         std::vector<unsigned char> file;
         const uint64_t fileLimit = rq.maxBytes > 0 ? rq.maxBytes + (uint64_t(1) << 20) : 0;
-        if (!readWhole(rq.fd, fileLimit, file, error)) {
+        if (rq.bytes && fileLimit > 0 && rq.size > fileLimit) {
+            out.fileBytes = rq.size;
+            return Status::OverBudget;
+        }
+        if (!rq.bytes && !readWhole(rq.fd, fileLimit, file, error)) {
             if (!error.empty()) return Status::Failed;
             struct stat st {};
             ::fstat(rq.fd, &st);
             out.fileBytes = uint64_t(st.st_size);
             return Status::OverBudget;
         }
-        OIIO::Filesystem::IOMemReader reader(file.data(), file.size());
-        auto in = OIIO::ImageInput::open(rq.name, nullptr, &reader);
+        OIIO::Filesystem::IOMemReader reader(rq.bytes ? rq.bytes : file.data(), rq.bytes ? rq.size : file.size());
+        // The values as stored: a PNG's colour is not multiplied by its alpha (glTF's and MTL's alpha is straight).
+        OIIO::ImageSpec config;
+        config.attribute("oiio:UnassociatedAlpha", 1);
+        OIIO::Filesystem::IOProxy* proxy = &reader;  // with a configuration, the reader takes its proxy from there
+        config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+        auto in = OIIO::ImageInput::open(rq.name, &config, &reader);
         if (!in) {
             error = OIIO::geterror();
             if (error.empty()) error = "not an image OpenImageIO can read";

@@ -203,21 +203,22 @@ TEST(InputFiles, TexturesAreHandedOnOpenAndReadFromTheirDescriptor) {
         "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "t"}]})");
     LoadedScene s = loadScene(json, {}, Logger());
     ASSERT_EQ(s.scene.textures.size(), 1u);  // one file, shared by both materials
-    ASSERT_EQ(s.scene.textureFiles.size(), 1u);
-    ASSERT_NE(s.scene.textureFiles[0], nullptr);
+    const auto opened = [](const TextureSource& t) { return static_cast<const InputFile*>(t.file.get()); };
+    ASSERT_NE(opened(s.scene.textures[0]), nullptr);
+    EXPECT_EQ(s.scene.textures[0].fd, opened(s.scene.textures[0])->fd());
     // Another file renamed over the path after loading: the descriptor still reads the file checked.
     writeFile(dir / "other.png", "swapped in");
     fs::rename(dir / "other.png", dir / "tex.png");
-    EXPECT_EQ(s.scene.textureFiles[0]->readAll(), "first bytes");
-    EXPECT_EQ(s.scene.textureFiles[0]->path(), dir / "tex.png");
+    EXPECT_EQ(opened(s.scene.textures[0])->readAll(), "first bytes");
+    EXPECT_EQ(opened(s.scene.textures[0])->path(), dir / "tex.png");
 
     // OBJ/MTL textures alike.
     writeFile(dir / "m.mtl", "newmtl a\nmap_Kd tex.png\n");
     fs::path obj = writeFile(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl a\nf 1/1 2/1 3/1\n");
     LoadedScene o = loadScene(obj, {}, Logger());
-    ASSERT_EQ(o.scene.textureFiles.size(), 1u);
-    ASSERT_NE(o.scene.textureFiles[0], nullptr);
-    EXPECT_EQ(o.scene.textureFiles[0]->readAll(), "swapped in");
+    ASSERT_EQ(o.scene.textures.size(), 1u);
+    ASSERT_NE(opened(o.scene.textures[0]), nullptr);
+    EXPECT_EQ(opened(o.scene.textures[0])->readAll(), "swapped in");
 }
 
 TEST(InputFiles, OpenInputFileChecksTheFileItOpened) {

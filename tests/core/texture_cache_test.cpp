@@ -1,11 +1,16 @@
 // TextureCache: texel values at known uv (v up, sRGB decoded), periodic
 // wrapping, MIP filtering over a footprint, grey images, float images kept
-// linear, missing files disabled with a warning, and concurrent lookups.
+// linear, missing files disabled with a warning, and concurrent lookups; a
+// material slot's sampling: images from memory, colour spaces, alpha, the
+// wrap modes, the nearest filter, transforms, one channel, normals, 16 bits.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <memory>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -16,6 +21,13 @@
 
 namespace penumbra {
 namespace {
+
+/// Texture sources for files named in code (with the loader's descriptors, where given).
+std::vector<TextureSource> files(const std::vector<std::string>& names, const std::vector<int>& fds = {}) {
+    std::vector<TextureSource> out;
+    for (size_t i = 0; i < names.size(); ++i) out.push_back({names[i], TextureColorSpace::FromFile, i < fds.size() ? fds[i] : -1});
+    return out;
+}
 namespace fs = std::filesystem;
 
 float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
@@ -35,6 +47,7 @@ fs::path writeImage(const fs::path& path, int w, int h, int channels, const std:
     auto out = OIIO::ImageOutput::create(path.string());
     if (!out) return {};
     OIIO::ImageSpec spec(w, h, channels, type);
+    spec.attribute("oiio:UnassociatedAlpha", 1);  // an alpha channel's texels as given
     if (!out->open(path.string(), spec)) return {};
     if (!out->write_image(type, px.data())) return {};
     out->close();
@@ -57,7 +70,7 @@ TEST(TextureCache, TexelsAtKnownUvWithVUp) {
     fs::path png = writeQuadrants(test::tempDir());
     ASSERT_FALSE(png.empty());
     Warnings w;
-    TextureCache cache({png.string()}, w.logger);
+    TextureCache cache(files({png.string()}), w.logger);
     EXPECT_TRUE(w.lines.empty());
     ASSERT_EQ(cache.size(), 1u);
     EXPECT_TRUE(cache.enabled(0));
@@ -72,7 +85,7 @@ TEST(TextureCache, TexelsAtKnownUvWithVUp) {
 TEST(TextureCache, WrapsPeriodically) {
     fs::path png = writeQuadrants(test::tempDir());
     Warnings w;
-    TextureCache cache({png.string()}, w.logger);
+    TextureCache cache(files({png.string()}), w.logger);
     expectRgb(cache.lookup(0, {1.25f, 0.75f}, 0.f), 1, 0, 0);
     expectRgb(cache.lookup(0, {-0.25f, -0.25f}, 0.f), 0, 1, 0);  // v -0.25 = 0.75: top row
     expectRgb(cache.lookup(0, {3.75f, 5.25f}, 0.f), srgbToLinear(128.f / 255.f), srgbToLinear(128.f / 255.f),
@@ -88,7 +101,7 @@ TEST(TextureCache, WideFootprintAveragesTheTexels) {
     fs::path png = writeImage(test::tempDir() / "checker.png", 8, 8, 1, px, OIIO::TypeDesc::UINT8);
     ASSERT_FALSE(png.empty());
     Warnings w;
-    TextureCache cache({png.string()}, w.logger);
+    TextureCache cache(files({png.string()}), w.logger);
     Rgb sharp = cache.lookup(0, {0.5f / 8.f, 0.5f / 8.f}, 0.f);
     EXPECT_TRUE(sharp.r == 0.f || sharp.r == 1.f) << sharp.r;
     Rgb wide = cache.lookup(0, {0.3f, 0.6f}, 1.f);
@@ -101,7 +114,7 @@ TEST(TextureCache, FloatImagesStayLinear) {
     fs::path exr = writeImage(test::tempDir() / "linear.exr", 1, 1, 3, px, OIIO::TypeDesc::FLOAT);
     if (exr.empty()) GTEST_SKIP() << "no OpenEXR writer";
     Warnings w;
-    TextureCache cache({exr.string()}, w.logger);
+    TextureCache cache(files({exr.string()}), w.logger);
     expectRgb(cache.lookup(0, {0.5f, 0.5f}, 0.f), 0.5f, 0.25f, 2.f);
 }
 
@@ -110,7 +123,7 @@ TEST(TextureCache, MissingAndInvalidTexturesAreDisabled) {
     fs::path png = writeQuadrants(dir);
     test::writeFile(dir / "junk.png", "this is not a PNG");
     Warnings w;
-    TextureCache cache({(dir / "absent.png").string(), png.string(), (dir / "junk.png").string()}, w.logger);
+    TextureCache cache(files({(dir / "absent.png").string(), png.string(), (dir / "junk.png").string()}), w.logger);
     ASSERT_EQ(w.lines.size(), 2u);
     EXPECT_NE(w.lines[0].find("absent.png"), std::string::npos) << w.lines[0];
     EXPECT_NE(w.lines[1].find("junk.png"), std::string::npos) << w.lines[1];
@@ -127,7 +140,7 @@ TEST(TextureCache, MissingAndInvalidTexturesAreDisabled) {
 TEST(TextureCache, ConcurrentLookupsAgree) {
     fs::path png = writeQuadrants(test::tempDir());
     Warnings w;
-    TextureCache cache({png.string()}, w.logger);
+    TextureCache cache(files({png.string()}), w.logger);
     std::vector<int> wrong(4, 0);
     std::vector<std::thread> threads;
     for (int t = 0; t < 4; ++t)
@@ -146,14 +159,115 @@ TEST(TextureCache, TwoCachesAreIndependent) {
     fs::path png = writeQuadrants(dir);
     Warnings w;
     {
-        TextureCache first({png.string()}, w.logger);
+        TextureCache first(files({png.string()}), w.logger);
         expectRgb(first.lookup(0, {0.25f, 0.75f}, 0.f), 1, 0, 0);
     }
     // The first cache is gone; a new one over a rewritten file sees the new content.
     std::vector<unsigned char> px = {0, 0, 255, 0, 0, 255, 0, 0, 255, 0, 0, 255};
     ASSERT_FALSE(writeImage(png, 2, 2, 3, px, OIIO::TypeDesc::UINT8).empty());
-    TextureCache second({png.string()}, w.logger);
+    TextureCache second(files({png.string()}), w.logger);
     expectRgb(second.lookup(0, {0.25f, 0.75f}, 0.f), 0, 0, 1);
+}
+
+/// The 2 x 2 quadrants image as a slot's texture (index 0), with `ref`'s sampling.
+TextureRef slot(TextureRef ref = {}) {
+    ref.texture = 0;
+    return ref;
+}
+
+TEST(TextureSlots, ImagesFromMemoryInEachColourSpace) {
+    const fs::path png = writeQuadrants(test::tempDir());
+    std::ifstream in(png, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    auto image = std::make_shared<const std::vector<unsigned char>>(bytes.begin(), bytes.end());
+    Warnings w;
+    // The same bytes: as the file says (8-bit: sRGB), sRGB, and linear.
+    TextureCache cache({TextureSource{"in memory", TextureColorSpace::FromFile, -1, nullptr, image},
+                        TextureSource{"in memory", TextureColorSpace::Srgb, -1, nullptr, image},
+                        TextureSource{"in memory", TextureColorSpace::Linear, -1, nullptr, image}},
+                       w.logger);
+    EXPECT_TRUE(w.lines.empty());
+    const float grey = 128.f / 255.f;
+    for (int t = 0; t < 3; ++t) {
+        TextureRef r = slot();
+        r.texture = t;
+        const Rgba c = cache.sample(r, {0.75f, 0.25f}, 0.f);
+        const float want = t == 2 ? grey : srgbToLinear(grey);
+        expectRgb(c.rgb, want, want, want);
+        EXPECT_FLOAT_EQ(c.a, 1.f);
+        EXPECT_FALSE(cache.hasTransparency(t));
+    }
+}
+
+TEST(TextureSlots, WrapModesNearestFilterAndTransforms) {
+    // 4 x 1 grey ramp 0, 80, 160, 240 (linear, so values are exact).
+    const fs::path png = writeImage(test::tempDir() / "ramp.png", 4, 1, 1, std::vector<unsigned char>{0, 80, 160, 240},
+                                    OIIO::TypeDesc::UINT8);
+    Warnings w;
+    TextureCache cache({TextureSource{png.string(), TextureColorSpace::Linear}}, w.logger);
+    auto at = [&](const TextureRef& r, float u) { return cache.sample(r, {u, 0.5f}, 0.f).rgb.r * 255.f; };
+    // Texel centres are at s = (i + 0.5) / 4; past the right edge:
+    TextureRef repeat = slot(), clamp = slot(), mirror = slot();
+    clamp.wrapS = TextureWrap::ClampToEdge;
+    mirror.wrapS = TextureWrap::MirroredRepeat;
+    EXPECT_NEAR(at(repeat, 1.125f), 0.f, 1e-3f);    // texel 0 again
+    EXPECT_NEAR(at(clamp, 1.125f), 240.f, 1e-3f);   // the edge texel
+    EXPECT_NEAR(at(mirror, 1.125f), 240.f, 1e-3f);  // texel 3, mirrored
+    EXPECT_NEAR(at(mirror, 1.375f), 160.f, 1e-3f);  // texel 2
+    EXPECT_NEAR(at(clamp, -3.f), 0.f, 1e-3f);
+    // Bilinear between texels 1 and 2 at s = 0.5; nearest takes one of them.
+    TextureRef nearest = slot();
+    nearest.filter = TextureFilter::Nearest;
+    EXPECT_NEAR(at(repeat, 0.5f), 120.f, 1e-3f);
+    EXPECT_NEAR(at(nearest, 0.49f), 80.f, 1e-3f);
+    EXPECT_NEAR(at(nearest, 0.51f), 160.f, 1e-3f);
+    // A transform: s' = 0.5 s + 0.25 reads texel 1 at s = 0.25 (s' = 0.375).
+    TextureSlot half;
+    half.scale[0] = 0.5f;
+    half.offset[0] = 0.25f;
+    const TextureRef moved = TextureRef::of(half, 0);
+    EXPECT_NEAR(at(moved, 0.25f), 80.f, 1e-3f);
+}
+
+TEST(TextureSlots, AlphaChannelsAndNormals) {
+    const fs::path dir = test::tempDir();
+    // Grey + alpha: 200 with alpha 100; RGB normal (128, 255, 128) = +y, slightly off in x.
+    const fs::path ga = writeImage(dir / "ga.png", 1, 1, 2, std::vector<unsigned char>{200, 100}, OIIO::TypeDesc::UINT8);
+    const fs::path n = writeImage(dir / "n.png", 1, 1, 3, std::vector<unsigned char>{191, 128, 255}, OIIO::TypeDesc::UINT8);
+    const fs::path grey = writeImage(dir / "g.png", 1, 1, 1, std::vector<unsigned char>{50}, OIIO::TypeDesc::UINT8);
+    Warnings w;
+    TextureCache cache({TextureSource{ga.string(), TextureColorSpace::Linear}, TextureSource{n.string(), TextureColorSpace::Linear},
+                        TextureSource{grey.string(), TextureColorSpace::Linear}},
+                       w.logger);
+    EXPECT_TRUE(w.lines.empty()) << w.lines.front();
+    TextureRef a = slot();
+    a.channel = 3;
+    EXPECT_NEAR(cache.sampleChannel(a, {0.5f, 0.5f}, 0.f), 100.f / 255.f, 1e-6f);  // alpha
+    a.channel = 1;
+    EXPECT_NEAR(cache.sampleChannel(a, {0.5f, 0.5f}, 0.f), 200.f / 255.f, 1e-6f);  // grey in every colour channel
+    EXPECT_TRUE(cache.hasTransparency(0));
+    TextureRef matte = slot();
+    matte.texture = 2;
+    matte.channel = 3;
+    EXPECT_NEAR(cache.sampleChannel(matte, {0.5f, 0.5f}, 0.f), 50.f / 255.f, 1e-6f) << "no alpha: the grey";
+    TextureRef normal = slot();
+    normal.texture = 1;
+    const Vec3f flat = cache.sampleNormal(normal, {0.5f, 0.5f}, 0.f, 1.f);
+    const Vec3f x = {2.f * 191.f / 255.f - 1.f, 2.f * 128.f / 255.f - 1.f, 1.f};
+    EXPECT_NEAR(flat.x, x.x / length(x), 1e-6f);
+    EXPECT_NEAR(length(flat), 1.f, 1e-6f);
+    const Vec3f scaled = cache.sampleNormal(normal, {0.5f, 0.5f}, 0.f, 0.f);  // scale 0: the map flattened
+    EXPECT_NEAR(scaled.z, 1.f, 1e-6f);
+    EXPECT_EQ(cache.sampleNormal(TextureRef{}, {0.5f, 0.5f}, 0.f, 1.f).z, 1.f);
+}
+
+TEST(TextureSlots, SixteenBitImagesKeepTheirPrecision) {
+    const std::vector<uint16_t> px = {1000, 40000};
+    const fs::path png = writeImage(test::tempDir() / "deep.png", 2, 1, 1, px, OIIO::TypeDesc::UINT16);
+    Warnings w;
+    TextureCache cache({TextureSource{png.string(), TextureColorSpace::Linear}}, w.logger);
+    EXPECT_NEAR(cache.sampleChannel(slot(), {0.25f, 0.5f}, 0.f), 1000.f / 65535.f, 1e-7f);
+    EXPECT_NEAR(cache.sampleChannel(slot(), {0.75f, 0.5f}, 0.f), 40000.f / 65535.f, 1e-7f);
 }
 
 }  // namespace

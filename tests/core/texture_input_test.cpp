@@ -22,6 +22,13 @@
 
 namespace penumbra {
 namespace {
+
+/// Texture sources for files named in code (with the loader's descriptors, where given).
+std::vector<TextureSource> files(const std::vector<std::string>& names, const std::vector<int>& fds = {}) {
+    std::vector<TextureSource> out;
+    for (size_t i = 0; i < names.size(); ++i) out.push_back({names[i], TextureColorSpace::FromFile, i < fds.size() ? fds[i] : -1});
+    return out;
+}
 namespace fs = std::filesystem;
 
 struct Warnings {
@@ -72,7 +79,7 @@ TEST(TextureInput, ADecompressionBombIsRefusedFromItsHeader) {
     const fs::path png = writeBombHeader(test::tempDir() / "bomb.png");
     Warnings w;
     const auto start = std::chrono::steady_clock::now();
-    TextureCache cache({png.string()}, w.logger);
+    TextureCache cache(files({png.string()}), w.logger);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_FALSE(cache.enabled(0));
     ASSERT_EQ(w.lines.size(), 1u);
@@ -89,7 +96,7 @@ TEST(TextureInput, TheBudgetCoversAllTexturesOfACache) {
     ASSERT_TRUE(writeSolid(dir / "b.png", 256, 256, 0, 255, 0));
     Warnings w;
     // a.png takes 256*256*3 bytes plus a third for its MIP levels (~256 KiB); b.png no longer fits.
-    TextureCache cache({(dir / "a.png").string(), (dir / "b.png").string()}, w.logger, {}, TextureBudget{300u << 10});
+    TextureCache cache(files({(dir / "a.png").string(), (dir / "b.png").string()}), w.logger, TextureBudget{300u << 10});
     EXPECT_TRUE(cache.enabled(0));
     EXPECT_FALSE(cache.enabled(1));
     ASSERT_EQ(w.lines.size(), 1u);
@@ -116,13 +123,13 @@ TEST(TextureInput, ATruncatedTiledExrIsRefusedNotWhite) {
     }
     {
         Warnings w;
-        TextureCache whole({exr.string()}, w.logger);
+        TextureCache whole(files({exr.string()}), w.logger);
         ASSERT_TRUE(whole.enabled(0));
         EXPECT_NEAR(whole.lookup(0, {0.9f, 0.1f}, 0.f).r, 0.25f, 1e-6f);
     }
     fs::resize_file(exr, fs::file_size(exr) * 6 / 10);
     Warnings w;
-    TextureCache cut({exr.string()}, w.logger);
+    TextureCache cut(files({exr.string()}), w.logger);
     EXPECT_FALSE(cut.enabled(0));
     ASSERT_EQ(w.lines.size(), 1u);
     EXPECT_NE(w.lines[0].find("tiled.exr: cannot read texture"), std::string::npos) << w.lines[0];
@@ -145,7 +152,7 @@ TEST(TextureInput, AnOpenDescriptorIsReadNotThePathAgain) {
     fs::create_symlink("../outside/secret.png", link);
 
     Warnings w;
-    TextureCache handedOver({link.string()}, w.logger, {fd});
+    TextureCache handedOver(files({link.string()}, {fd}), w.logger);
     ASSERT_TRUE(handedOver.enabled(0));
     const Rgb c = handedOver.lookup(0, {0.5f, 0.5f}, 0.f);
     EXPECT_NEAR(c.r, 1.f, 1e-5f);
@@ -155,7 +162,7 @@ TEST(TextureInput, AnOpenDescriptorIsReadNotThePathAgain) {
     EXPECT_EQ(::close(fd), 0);
 
     // Control: by path, the swapped link is followed (what the descriptor prevents).
-    TextureCache byPath({link.string()}, w.logger);
+    TextureCache byPath(files({link.string()}), w.logger);
     EXPECT_NEAR(byPath.lookup(0, {0.5f, 0.5f}, 0.f).b, 1.f, 1e-5f);
     EXPECT_TRUE(w.lines.empty());
 }
@@ -165,7 +172,7 @@ TEST(TextureInput, NonRegularFilesAreRefusedWithoutBlocking) {
     const fs::path fifo = dir / "fifo.png";
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     Warnings w;
-    TextureCache cache({fifo.string(), dir.string()}, w.logger);
+    TextureCache cache(files({fifo.string(), dir.string()}), w.logger);
     EXPECT_FALSE(cache.enabled(0));
     EXPECT_FALSE(cache.enabled(1));
     ASSERT_EQ(w.lines.size(), 2u);

@@ -37,8 +37,6 @@ fs::path writeFile(const fs::path& path, const std::string& text) {
     return path;
 }
 
-namespace {
-
 std::string base64(const std::string& bytes) {
     static constexpr char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
@@ -53,8 +51,6 @@ std::string base64(const std::string& bytes) {
     }
     return out;
 }
-
-}  // namespace
 
 std::string twoQuadsBuffer() {
     std::string b;

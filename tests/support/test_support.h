@@ -23,6 +23,9 @@ std::filesystem::path tempDir();
 /// Writes text to a file (creating parent directories); returns the path.
 std::filesystem::path writeFile(const std::filesystem::path& path, const std::string& text);
 
+/// `bytes` in base64 (RFC 4648, with padding), as data: URIs hold them.
+std::string base64(const std::string& bytes);
+
 /// The binary buffer of twoQuadsGltf: two 1.5 x 1.5 quads in the z = 0
 /// plane facing +z, centred at x = -1.25 and x = +1.25 (4 + 4 float3
 /// positions, then 6 uint16 indices).

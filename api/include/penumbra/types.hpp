@@ -95,7 +95,53 @@ enum class PhongModel {
     Classic,
 };
 
-/// Phong material (docs/rendering.md). Coefficients are linear RGB in [0, inf).
+/// The reflection model of a material (docs/rendering.md, docs/scene-format.md).
+enum class MaterialKind {
+    /// The Phong terms ka, kd, ks, exponent and kr (kt and ior for glass): the
+    /// model of OBJ/MTL and JSON materials unless they ask for another.
+    Phong,
+    /// glTF 2.0's metal-roughness model: baseColor, metallic, roughness,
+    /// transmission with ior. The renderer does not shade it yet: until it
+    /// does, a loader also fills the Phong terms with an approximation.
+    MetalRoughness,
+};
+
+/// How a texture repeats outside [0, 1] along one axis (glTF's sampler wrap modes).
+enum class TextureWrap { Repeat, ClampToEdge, MirroredRepeat };
+
+/// How a texture is filtered: Linear is bilinear between texels and
+/// trilinear across MIP levels when minified; Nearest takes the nearest
+/// texel of the full-resolution image (glTF magFilter NEAREST: pixel art).
+enum class TextureFilter { Linear, Nearest };
+
+/// One texture of a material: an image and how it is sampled. Image
+/// coordinates (s, t) run right and down from the image's top-left corner:
+/// glTF's texture coordinates, and (u, 1 - v) of OBJ's.
+struct TextureSlot {
+    /// The image file; empty = none. Images stored inside a model file (a GLB
+    /// buffer, a data: URI) are named "<model file>#image<N>.png" (or .jpg)
+    /// here; they are not files, and only the scene that loaded them can use them.
+    std::string path;
+    int uvSet = 0;    ///< which texture coordinates: 0 or 1 (glTF texCoord)
+    int channel = 0;  ///< slots that read one value (metallic, roughness, ...): 0 = R, 1 = G, 2 = B, 3 = A (the grey of an image without alpha)
+    /// KHR_texture_transform, applied to (s, t): translate(offset) * rotate(rotation) * scale(scale).
+    float offset[2] = {0.f, 0.f};
+    float rotation = 0.f;  ///< radians; positive turns the image clockwise as KHR_texture_transform defines it
+    float scale[2] = {1.f, 1.f};
+    TextureWrap wrapS = TextureWrap::Repeat;
+    TextureWrap wrapT = TextureWrap::Repeat;
+    TextureFilter filter = TextureFilter::Linear;
+};
+
+/// What the alpha of a surface does (glTF alphaMode).
+enum class AlphaMode {
+    Opaque,  ///< alpha is ignored
+    Mask,    ///< the surface is absent where alpha < alphaCutoff
+    Blend,   ///< the surface is present with probability alpha (stochastic transparency)
+};
+
+/// A material (docs/rendering.md, docs/scene-format.md). Colours are linear
+/// RGB in [0, inf); the fields of the other kind are ignored.
 struct Material {
     std::string name;
     Color ka{0.f, 0.f, 0.f};    ///< ambient reflectance (times the scene's ambient light)
@@ -110,7 +156,32 @@ struct Material {
     /// Transmission colour: non-zero makes the surface a smooth dielectric (glass) whose
     /// Fresnel reflection replaces kr and whose refracted light is scaled by kt.
     Color kt{0.f, 0.f, 0.f};
-    float ior = 1.5f;  ///< index of refraction behind the front side (outside is 1); used when kt > 0
+    float ior = 1.5f;  ///< index of refraction behind the front side (outside is 1); used when kt > 0 or transmission > 0
+
+    MaterialKind kind = MaterialKind::Phong;
+    // Metal-roughness (kind MetalRoughness), as glTF 2.0 defines it.
+    Color baseColor{1.f, 1.f, 1.f};  ///< glTF baseColorFactor's RGB
+    float metallic = 1.f;            ///< in [0, 1]
+    float roughness = 1.f;           ///< in [0, 1] (GGX alpha = roughness^2)
+    float transmission = 0.f;        ///< KHR_materials_transmission: share of the dielectric part refracted, [0, 1]
+    TextureSlot baseColorTexture;    ///< sRGB colour with alpha; multiplies baseColor and opacity
+    TextureSlot metallicTexture;     ///< linear; its channel multiplies metallic (glTF: B of metallicRoughnessTexture)
+    TextureSlot roughnessTexture;    ///< linear; its channel multiplies roughness (glTF: G of the same image)
+    TextureSlot transmissionTexture; ///< linear; its channel multiplies transmission (glTF: R)
+
+    // Both kinds.
+    /// Tangent-space normal map (linear RGB, glTF's convention: +G is +bitangent), or a height map when bumpMap.
+    TextureSlot normalTexture;
+    float normalScale = 1.f;  ///< glTF normalTexture.scale, MTL -bm: scales the map's X and Y (or the heights)
+    bool bumpMap = false;     ///< normalTexture is a height map (MTL bump, map_Bump) rather than a normal map
+    TextureSlot emissiveTexture;  ///< sRGB; multiplies ke (glTF emissiveTexture, MTL map_Ke)
+    float opacity = 1.f;          ///< alpha factor in [0, 1] (glTF baseColorFactor's alpha)
+    TextureSlot opacityTexture;   ///< its channel multiplies the alpha (MTL map_d)
+    /// Whether alpha (opacity x the colour texture's alpha x opacityTexture)
+    /// hides the surface. The colour texture is baseColorTexture, or the
+    /// diffuseTexture of a Phong material.
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alphaCutoff = 0.5f;  ///< Mask: the surface is absent where alpha < alphaCutoff
 };
 
 // ---------------------------------------------------------------- render settings

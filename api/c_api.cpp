@@ -105,6 +105,31 @@ pnb_status pnb_scene_clone(const pnb_scene* scene, pnb_scene** out) {
 void pnb_scene_destroy(pnb_scene* scene) { destroy(scene); }
 const char* pnb_scene_last_error(const pnb_scene* scene) { return scene ? scene->error.c_str() : ""; }
 
+namespace {
+
+// The metal-roughness fields and the texture slots of a C material.
+void readMetalRoughness(const pnb_material& c, pnb::Material& m) {
+    const int kind = rawEnum(c.kind);
+    if (kind != PNB_MATERIAL_PHONG && kind != PNB_MATERIAL_METAL_ROUGHNESS)
+        throw pnb::Error(pnb::ErrorCode::InvalidArgument, "material kind " + std::to_string(kind) + " is not a pnb_material_kind");
+    m.kind = kind == PNB_MATERIAL_METAL_ROUGHNESS ? pnb::MaterialKind::MetalRoughness : pnb::MaterialKind::Phong;
+    m.baseColor = in(c.base_color);
+    m.metallic = c.metallic;
+    m.roughness = c.roughness;
+    m.transmission = c.transmission;
+    m.normalScale = c.normal_scale;
+    if (c.base_color_texture) m.baseColorTexture.path = c.base_color_texture;
+    if (c.metallic_roughness_texture) {
+        m.metallicTexture.path = m.roughnessTexture.path = c.metallic_roughness_texture;
+        m.metallicTexture.channel = 2;
+        m.roughnessTexture.channel = 1;
+    }
+    if (c.normal_texture) m.normalTexture.path = c.normal_texture;
+    if (c.emissive_texture) m.emissiveTexture.path = c.emissive_texture;
+}
+
+}  // namespace
+
 pnb_status pnb_scene_add_material(pnb_scene* scene, const pnb_material* material, uint32_t* out_id) {
     return guard(scene ? &scene->error : nullptr, "pnb_scene_add_material", [&] {
         need(scene, "scene");
@@ -126,6 +151,7 @@ pnb_status pnb_scene_add_material(pnb_scene* scene, const pnb_material* material
         if (material->diffuse_texture) m.diffuseTexture = material->diffuse_texture;
         m.kt = in(material->kt);
         m.ior = material->ior;
+        readMetalRoughness(*material, m);
         const pnb::MaterialId id = scene->scene.addMaterial(m);
         if (out_id) *out_id = id;
     });

@@ -129,8 +129,8 @@ MaterialId Scene::addMaterial(const Material& m) {
         if (auto problem = pn::materialProblem(m)) fail(ErrorCode::InvalidArgument, what + ": " + *problem);
         require(s.materials.size() < std::numeric_limits<MaterialId>::max(), "too many materials");
         pn::Material pm{m};
-        // Until the renderer shades metal-roughness, its Phong terms approximate it (as loaders do).
-        if (pm.kind == MaterialKind::MetalRoughness) pn::approximateWithPhong(pm);
+        // Transmission is the smooth dielectric's (core/material.h), as loaders make it.
+        if (pm.kind == MaterialKind::MetalRoughness) pn::mapTransmissionOntoGlass(pm);
         // Named in code: opened by name, once, when the scene is prepared.
         pn::bindTextures(pm, [&](std::string& path, pn::TextureColorSpace space) {
             return s.addTexture(pn::TextureSource{path, space});

@@ -57,10 +57,11 @@ PreparedScene::PreparedScene(Scene scene, const PrepareOptions& options, const L
     RgbImage environmentImage;
     if (scene_.environment && !scene_.environment->image.empty())
         environmentImage = readEnvironmentImage(*scene_.environment, log);
-    lights_ = std::make_unique<LightSet>(scene_, std::move(environmentImage));
     // Textures are read from the files the loader opened right after its path check (never
     // reopened by name: a file swapped in since then is not read) or from their bytes.
     if (!scene_.textures.empty()) textures_ = std::make_unique<TextureCache>(scene_.textures, log);
+    // Emissive textures light the scene as they are seen (core/emission.h).
+    lights_ = std::make_unique<LightSet>(scene_, std::move(environmentImage), textures_.get());
     buildSeconds_ = secondsSince(t0);
 }
 
@@ -196,6 +197,7 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
         for (size_t i = 0; i < count; ++i) keys[i] = SampleKey{pixelKey[i], s};
         c.camera.generateRayLanes(filmX, filmY, c.useLens ? lens : nullptr, int(count), rayLanes);
         c.prepared.accelerator().intersectLanes(rayLanes, std::span<std::optional<Hit>>(hits.data(), count), rays);
+        for (size_t i = 0; i < count; ++i) counts.cameraHits += hits[i].has_value() ? 1 : 0;
         const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();
         c.integrator.radianceBatch(std::span<const Ray>(rays, count),
                                    std::span<const std::optional<Hit>>(hits.data(), count),
@@ -284,6 +286,7 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     stats.transmissionRays = total.transmission;
     stats.indirectRays = total.indirect;
     stats.brdfRays = total.brdf;
+    stats.cameraHits = total.cameraHits;
     stats.pathLengthSum = total.pathLengthSum;
     stats.pathLengthMax = total.pathLengthMax;
     stats.invalidRays = prepared.accelerator().invalidRayCount() - invalidBefore;

@@ -147,6 +147,7 @@ int runSteps(const Options& o, std::string& step) {
         return 130;
     }
     progress.finish();
+    warnIfEmptyImage(o, image, stats, prepared.primitiveCount() > 0, "penumbra");
 
     pnb::ImageOptions wo;
     wo.exposure = o.exposure;

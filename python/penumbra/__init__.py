@@ -24,6 +24,7 @@ from ._penumbra import (
     LightSelection,
     LogLevel,
     Material,
+    MaterialKind,
     Matrix3x4,
     PhongModel,
     PreparedScene,
@@ -41,7 +42,7 @@ __version__ = version()
 __all__ = [
     "BuildQuality", "Camera", "DirectLightSampling", "Error", "ErrorCode", "Framebuffer", "Image", "IntegratorKind",
     "JobStatus", "LightSelection",
-    "LogLevel", "Material", "Matrix3x4", "PhongModel", "PreparedScene", "RenderJob", "Renderer",
+    "LogLevel", "Material", "MaterialKind", "Matrix3x4", "PhongModel", "PreparedScene", "RenderJob", "Renderer",
     "RenderSettings", "RenderStats", "Scene", "png_bytes", "version",
 ]
 

@@ -25,20 +25,30 @@ float dielectricTransmittance(float cosTheta) {
     return 1.f - pow5(std::clamp(1.f - cosTheta, 0.f, 1.f));
 }
 
+Rgb specularF0(const Rgb& baseColor, float metallic) {
+    return Rgb(kDielectricF0 * (1.f - metallic)) + baseColor * metallic;
+}
+
 }  // namespace
 
+Rgb metalRoughnessMirrorWeight(const ShadingPoint& sp) {
+    const float metallic = std::clamp(sp.metallic, 0.f, 1.f);
+    return schlick(specularF0(sp.kd, metallic), dot(sp.wo, sp.ns));
+}
+
 MetalRoughnessBsdf::MetalRoughnessBsdf(const Rgb& baseColor, float metallic, float roughness, const Vec3f& n,
-                                       const Vec3f& wo)
+                                       const Vec3f& wo, bool specularLobe)
     : frame_(Frame::fromNormal(n)), wo_(frame_.toLocal(wo)), ggx_(ggxAlpha(roughness)) {
     metallic = std::clamp(metallic, 0.f, 1.f);
-    f0_ = Rgb(kDielectricF0 * (1.f - metallic)) + baseColor * metallic;
+    f0_ = specularF0(baseColor, metallic);
+    specularLobe_ = specularLobe;
     diffuse_ = baseColor * (1.f - metallic);
     // The lobes' shares of what reaches wo, by their Fresnel weights at
     // normal-to-wo incidence: a cheap stand-in for their albedos.
     baseTransmittance_ = wo_.z > 0.f ? (1.f - kDielectricF0) * dielectricTransmittance(wo_.z) : 0.f;
     const float fresnel = schlick(f0_, wo_.z).average();
     const float base = diffuse_.average() * baseTransmittance_;
-    specular_ = fresnel + base > 0.f ? fresnel / (fresnel + base) : 1.f;
+    specular_ = !specularLobe ? 0.f : fresnel + base > 0.f ? fresnel / (fresnel + base) : 1.f;
     g1o_ = wo_.z > 0.f ? ggx_.g1(wo_) : 0.f;
 }
 
@@ -52,7 +62,7 @@ BsdfSample MetalRoughnessBsdf::evaluate(const Vec3f& wi) const {
     const Vec3f l = frame_.toLocal(wi);
     if (!(l.z > 0.f) || !(wo_.z > 0.f)) return {wi, Rgb(0.f), 0.f};
     const Vec3f h = normalize(wo_ + l);
-    const Rgb f = schlick(f0_, dot(wo_, h));
+    const Rgb f = specularLobe_ ? schlick(f0_, dot(wo_, h)) : Rgb(0.f);
     const float specular = ggx_.d(h) * ggx_.g2(wo_, l) / (4.f * wo_.z);  // times l.z / l.z
     const float base = baseTransmittance_ * dielectricTransmittance(l.z) * l.z * kInvPi;
     const Rgb fCos = f * specular + diffuse_ * base;

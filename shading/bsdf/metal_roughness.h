@@ -33,6 +33,7 @@
 #include "core/math.h"
 #include "shading/bsdf/bsdf_sample.h"
 #include "shading/bsdf/microfacet.h"
+#include "shading/shading_point.h"
 
 namespace penumbra {
 
@@ -46,7 +47,10 @@ inline float ggxAlpha(float roughness) { return std::max(roughness * roughness, 
 /// many evaluations and samples.
 class MetalRoughnessBsdf {
 public:
-    MetalRoughnessBsdf(const Rgb& baseColor, float metallic, float roughness, const Vec3f& n, const Vec3f& wo);
+    /// specularLobe false: the diffuse base alone (the specular lobe's light
+    /// is carried by a mirror bounce instead: ShadingPoint::mirrorSpecular).
+    MetalRoughnessBsdf(const Rgb& baseColor, float metallic, float roughness, const Vec3f& n, const Vec3f& wo,
+                       bool specularLobe = true);
 
     /// f cos towards wi and the pdf with which direction() draws wi.
     BsdfSample evaluate(const Vec3f& wi) const;
@@ -58,6 +62,11 @@ public:
 
     /// The probability that direction() samples the specular lobe.
     float specularProbability() const { return specular_; }
+    /// Pi times the largest value of pdf(): the sharper lobe's (the specular
+    /// lobe's peak taken as seen head-on, 1 / (4 pi alpha^2)).
+    float piPeakPdf() const {
+        return specular_ / (4.f * ggx_.alpha() * ggx_.alpha()) + (1.f - specular_);
+    }
 
 private:
     float pdfLocal(const Vec3f& wi, const Vec3f& h) const;
@@ -67,8 +76,19 @@ private:
     GgxDistribution ggx_;
     Rgb f0_, diffuse_;  // F0 and c_diff
     float specular_;
+    bool specularLobe_;
     float baseTransmittance_;  // T(wo) / (1 - 0.04): the base's weight on wo's side
     float g1o_;  // G1(wo), part of every specular pdf
 };
+
+/// The BRDF at a metal-roughness shading point.
+inline MetalRoughnessBsdf metalRoughnessAt(const ShadingPoint& sp) {
+    return MetalRoughnessBsdf(sp.kd, sp.metallic, sp.roughness, sp.ns, sp.wo, !sp.mirrorSpecular);
+}
+
+/// The reflectance of the specular lobe of a polished surface seen along wo
+/// (Schlick's Fresnel at n.wo): the weight of the Whitted integrator's mirror
+/// bounce where that bounce stands in for the lobe.
+Rgb metalRoughnessMirrorWeight(const ShadingPoint& sp);
 
 }  // namespace penumbra

@@ -101,8 +101,9 @@ enum class MaterialKind {
     /// model of OBJ/MTL and JSON materials unless they ask for another.
     Phong,
     /// glTF 2.0's metal-roughness model: baseColor, metallic, roughness,
-    /// transmission with ior. The renderer does not shade it yet: until it
-    /// does, a loader also fills the Phong terms with an approximation.
+    /// transmission with ior, shaded by a GGX microfacet BSDF
+    /// (docs/rendering.md); transmission makes the smooth dielectric, and the
+    /// Phong terms but ke are ignored.
     MetalRoughness,
 };
 
@@ -257,6 +258,8 @@ struct RenderStats {
     /// closest-hit query that looks for one; shadowRays are the occlusion queries towards sampled
     /// light points).
     std::uint64_t brdfRays = 0;
+    /// Camera rays that hit a surface (the rest saw the background or the environment).
+    std::uint64_t cameraHits = 0;
 
     /// Every ray traced: the sum of the kinds above (invalid rays are not traced).
     std::uint64_t totalRays() const {

@@ -175,7 +175,7 @@ pnb_render_stats out(const pnb::RenderStats& s) {
     r.threads = s.threads;
     r.transmission_rays = s.transmissionRays;
     r.brdf_rays = s.brdfRays;
-    r.camera_hits = s.cameraHits;
+    r.pixels_hit = s.pixelsHit;
     r.indirect_rays = s.indirectRays;
     r.path_length_sum = s.pathLengthSum;
     r.path_length_max = s.pathLengthMax;

@@ -58,7 +58,7 @@ void accumulate(RenderStats& total, const RenderStats& pass) {
     total.pathLengthSum += pass.pathLengthSum;
     total.pathLengthMax = std::max(total.pathLengthMax, pass.pathLengthMax);
     total.brdfRays += pass.brdfRays;
-    total.cameraHits += pass.cameraHits;
+    total.pixelsHit += pass.pixelsHit;
     const double rays = double(total.totalRays());
     total.mraysPerSecond = total.renderSeconds > 0 ? rays / total.renderSeconds * 1e-6 : 0.0;
     total.samplesPerPixel = pass.samplesPerPixel;

@@ -197,7 +197,9 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
         for (size_t i = 0; i < count; ++i) keys[i] = SampleKey{pixelKey[i], s};
         c.camera.generateRayLanes(filmX, filmY, c.useLens ? lens : nullptr, int(count), rayLanes);
         c.prepared.accelerator().intersectLanes(rayLanes, std::span<std::optional<Hit>>(hits.data(), count), rays);
-        for (size_t i = 0; i < count; ++i) counts.cameraHits += hits[i].has_value() ? 1 : 0;
+        // The share of pixels that see a surface, from one sample each: enough for the CLI's empty-image warning.
+        if (s == c.firstSample)
+            for (size_t i = 0; i < count; ++i) counts.pixelsHit += hits[i].has_value() ? 1 : 0;
         const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();
         c.integrator.radianceBatch(std::span<const Ray>(rays, count),
                                    std::span<const std::optional<Hit>>(hits.data(), count),
@@ -286,7 +288,7 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     stats.transmissionRays = total.transmission;
     stats.indirectRays = total.indirect;
     stats.brdfRays = total.brdf;
-    stats.cameraHits = total.cameraHits;
+    stats.pixelsHit = total.pixelsHit;
     stats.pathLengthSum = total.pathLengthSum;
     stats.pathLengthMax = total.pathLengthMax;
     stats.invalidRays = prepared.accelerator().invalidRayCount() - invalidBefore;

@@ -15,7 +15,6 @@ struct ShadingPoint {
     Vec3f ns;   // unit shading normal, facing wo
     Vec3f wo;   // unit direction back along the ray
     Rgb kd;     // diffuse albedo after texturing; metal-roughness: the base colour after texturing
-    Rgb emission;  // ke after texturing; set only where material->isEmissive()
     const Material* material = nullptr;
     // Metal-roughness (metalRoughness: material->kind, unless it is glass),
     // after texturing: shading/bsdf/metal_roughness.h.

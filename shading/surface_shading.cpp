@@ -34,6 +34,8 @@ Rgb SurfaceShading::diffuseAlbedo(const Material& m, const Hit& hit, float pathL
 }
 
 void SurfaceShading::shadeMaps(const Material& m, const Hit& hit, float pathLength, ShadingPoint& sp) const {
+    sp.glossy = m.isGlossy();
+    if (!m.shadedAsMetalRoughness()) sp.kd = diffuseAlbedo(m, hit, pathLength, sp.wo);
     const float width = textures_ ? footprint(hit, pathLength, sp.wo) : 0.f;
     const Vec2f uv1 = textures_ && m.needsUv1() ? scene_.uv1At(hit) : hit.uv;
     const auto uvOf = [&](const TextureRef& r) { return r.uvSet == 1 ? uv1 : hit.uv; };
@@ -77,14 +79,18 @@ PENUMBRA_LANE_CLONES void SurfaceShading::shade(const Hit& hit, const Ray& ray, 
     sp.front = front;
     sp.ng = front ? hit.ng : -hit.ng;
     sp.ns = front ? hit.ns : -hit.ns;
-    // (A metal-roughness point's kd is its base colour, textured by shadeMaps.)
-    sp.kd = m.shadedAsMetalRoughness() ? Rgb(m.kd) : diffuseAlbedo(m, hit, pathLength, sp.wo);
-    sp.glossy = m.isGlossy();
     sp.metalRoughness = false;
     sp.mirrorSpecular = false;
-    if (m.kind == MaterialKind::MetalRoughness || m.normalMap.used()) [[unlikely]]
+    if (m.kind == MaterialKind::Phong && !m.normalMap.used()) [[likely]] {
+        sp.kd = diffuseAlbedo(m, hit, pathLength, sp.wo);
+        sp.glossy = m.isGlossy();
+    } else {
         shadeMaps(m, hit, pathLength, sp);
-    if (m.isEmissive()) sp.emission = emittedRadiance(scene_, textures_, m, hit);
+    }
+}
+
+Rgb SurfaceShading::emission(const Hit& hit, const ShadingPoint& sp) const {
+    return emittedRadiance(scene_, textures_, *sp.material, hit);
 }
 
 }  // namespace penumbra

@@ -3,8 +3,8 @@
 // direction back along the ray, and the material after texturing, filtered
 // over the pixel's footprint at the hit (a ray cone): the diffuse albedo; a
 // normal map's shading normal; the metal-roughness model's base colour,
-// metallic and roughness; the emission (core/emission.h). Materials with
-// neither a normal map nor the metal-roughness model take none of that work.
+// metallic and roughness; and, asked apart, the emission (core/emission.h).
+// Phong materials without a normal map take none of that work.
 #pragma once
 
 #include "core/hit.h"
@@ -29,6 +29,10 @@ public:
     /// Writes into sp the shading point of a hit reached along `ray` after
     /// pathLength, in place: a lane's shading point is read right after.
     void shade(const Hit& hit, const Ray& ray, float pathLength, ShadingPoint& sp) const;
+
+    /// The radiance the emitter at `hit` sends towards the viewer (where
+    /// sp.emits()): ke, textured (core/emission.h).
+    Rgb emission(const Hit& hit, const ShadingPoint& sp) const;
 
 private:
     /// The texture filter's width in uv units at a hit (0: the finest level).

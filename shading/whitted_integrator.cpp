@@ -124,7 +124,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             lane.pathLength += hit.t;
             surfaces_.shade(hit, lane.ray, lane.pathLength, lane.sp);
             const Material& m = *lane.sp.material;
-            if (lane.sp.emits()) lane.L += lane.throughput * lane.sp.emission;
+            if (lane.sp.emits()) lane.L += lane.throughput * surfaces_.emission(hit, lane.sp);
             if (first && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};
             lane.L += lane.throughput * (m.ka * scene_.ambient);
         }

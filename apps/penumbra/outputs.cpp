@@ -102,18 +102,19 @@ void warnIfEmptyImage(const Options& o, const pnb::Framebuffer& image, const pnb
                       const char* program) {
     // Black: no pixel reaches a tenth of the darkest non-zero 8-bit sRGB value.
     constexpr float kBlack = 3e-5f;
-    // Nearly all background: at most this share of the camera rays hit anything.
+    // Nearly all background: at most this share of the pixels see a surface.
     constexpr double kBackgroundShare = 0.01;
     float brightest = 0.f;
     const std::vector<float> rgba = image.rgba();
     for (size_t i = 0; i + 3 < rgba.size(); i += 4)
         brightest = std::max({brightest, rgba[i], rgba[i + 1], rgba[i + 2]});
     const bool black = !(brightest > kBlack);
-    const bool empty = scenery && stats.cameraRays > 0 && double(stats.cameraHits) <= kBackgroundShare * double(stats.cameraRays);
+    const double pixels = double(image.width()) * double(image.height());
+    const bool empty = scenery && pixels > 0 && double(stats.pixelsHit) <= kBackgroundShare * pixels;
     if (!black && !empty) return;
     std::fprintf(stderr, "%s: warning: %s: the image is %s; the camera may be outside a closed model; try --eye/--look-at\n",
                  program, o.output.string().c_str(),
-                 black ? "black" : "nearly all background (camera rays hit nothing)");
+                 black ? "black" : "nearly all background (its pixels see no surface)");
 }
 
 nlohmann::json statisticsHeader(const Options& o, const pnb::RenderSettings& s, const std::string& accelerator) {

@@ -44,8 +44,8 @@ pnb::LoadOptions loadOptionsFor(const Options& o, SceneReads& reads);
 /// textures, meshes), and warns once, as `program`, about reads outside the scene's folder.
 void checkSceneReads(const Options& o, const SceneReads& reads, const char* program);
 
-/// After rendering: warns, as `program`, when the image is black or its
-/// camera rays nearly all missed the scene (an automatic camera framing a
+/// After rendering: warns, as `program`, when the image is black or nearly
+/// none of its pixels sees a surface (an automatic camera framing a
 /// closed model from outside, a plane seen edge-on). `scenery`: the scene has
 /// primitives (an environment alone is all background by design).
 void warnIfEmptyImage(const Options& o, const pnb::Framebuffer& image, const pnb::RenderStats& stats, bool scenery,

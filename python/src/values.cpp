@@ -380,7 +380,7 @@ void bindValues(py::module_& m) {
         .def_readonly("threads", &pnb::RenderStats::threads)
         .def_readonly("transmission_rays", &pnb::RenderStats::transmissionRays)
         .def_readonly("brdf_rays", &pnb::RenderStats::brdfRays)
-        .def_readonly("camera_hits", &pnb::RenderStats::cameraHits)
+        .def_readonly("pixels_hit", &pnb::RenderStats::pixelsHit)
         .def_readonly("indirect_rays", &pnb::RenderStats::indirectRays)
         .def_readonly("path_length_sum", &pnb::RenderStats::pathLengthSum,
                       "rays along each camera sample's path, summed (mean = path_length_sum / camera_rays)")

@@ -197,7 +197,7 @@ typedef struct pnb_render_stats {
     uint64_t path_length_sum; /* rays along each camera sample's path, summed (mean = sum / camera_rays) */
     uint32_t path_length_max;
     uint64_t brdf_rays; /* whitted: BRDF-sampled direct-light rays traced under MIS (docs/rendering.md) */
-    uint64_t camera_hits; /* camera rays that hit a surface */
+    uint64_t pixels_hit; /* pixels whose first camera sample (of each pass) hit a surface */
 } pnb_render_stats;
 
 /* Hooks for a synchronous render; fill with zeros or pnb_render_callbacks_init. progress gets the

@@ -258,8 +258,9 @@ struct RenderStats {
     /// closest-hit query that looks for one; shadowRays are the occlusion queries towards sampled
     /// light points).
     std::uint64_t brdfRays = 0;
-    /// Camera rays that hit a surface (the rest saw the background or the environment).
-    std::uint64_t cameraHits = 0;
+    /// Pixels whose first camera sample hit a surface (the rest saw the
+    /// background or the environment there), summed over passes.
+    std::uint64_t pixelsHit = 0;
 
     /// Every ray traced: the sum of the kinds above (invalid rays are not traced).
     std::uint64_t totalRays() const {

@@ -4,10 +4,12 @@
 
 namespace penumbra {
 
-std::unique_ptr<Accelerator> makeAccelerator(const std::string& name, const Scene& scene, BuildQuality quality) {
-    if (name == "embree") return makeEmbreeAccelerator(scene, quality);
-    if (name == "naive") return makeNaiveAccelerator(scene);
-    throw Error(ErrorCode::InvalidArgument, "unknown accelerator '" + name + "' (expected embree or naive)");
+std::unique_ptr<Accelerator> makeAccelerator(AcceleratorKind kind, const Scene& scene, BuildQuality quality) {
+    switch (kind) {
+        case AcceleratorKind::Embree: return makeEmbreeAccelerator(scene, quality);
+        case AcceleratorKind::Naive: return makeNaiveAccelerator(scene);
+    }
+    throw Error(ErrorCode::InvalidArgument, "accelerator " + std::to_string(int(kind)) + " is not an AcceleratorKind");
 }
 
 }  // namespace penumbra

@@ -1,6 +1,7 @@
 // The one interface every ray query goes through: camera, shadow and mirror
 // rays alike. Two implementations: Embree (the product) and a naive O(N) loop
-// (the reference and the benchmark baseline).
+// (the reference and the benchmark baseline). docs/accelerators.md describes
+// both, their rules and their agreement.
 #pragma once
 
 #include <penumbra/types.hpp>
@@ -30,6 +31,7 @@ struct PrimIntersection {
 };
 
 using BuildQuality = pnb::BuildQuality;  // api/include/penumbra/types.hpp
+using AcceleratorKind = pnb::AcceleratorKind;
 
 class Accelerator {
 public:
@@ -53,7 +55,7 @@ public:
     /// Batched queries: the same answers as the single-ray calls, for
     /// rays.size() rays (any count). Embree answers them as 4/8/16-wide
     /// packets, which beat single rays for coherent rays (camera rays of a
-    /// pixel block, one shading point's light samples): see docs/benchmarks.md.
+    /// pixel block, one shading point's light samples).
     virtual void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out) const {
         for (size_t i = 0; i < rays.size(); ++i) out[i] = intersectPrim(rays[i]);
     }
@@ -88,9 +90,8 @@ public:
         EmptyOptionals<PrimIntersection, RayLanes::kWidth> thin;
         intersectPrimLanes(rays, thin.data());
         // Every lane's Ray is written before the first hit is completed: a Ray
-        // written just before the call that reads it stalled the reads (the
-        // profile's hot loads were the Ray's; store forwarding, presumably):
-        // textbook_fig18_04.json renders 1.15x as fast this way.
+        // written just before the call that reads it stalls the reads
+        // (docs/accelerators.md).
         rays.rays(int(out.size()), rayOut);
         for (size_t l = 0; l < out.size(); ++l) completeThin(rayOut[l], thin[l], out[l]);
     }
@@ -112,9 +113,7 @@ public:
 
     /// The shapes' padded bounds, for telling that whole sets of shadow rays
     /// meet nothing (ShapeBounds::segmentsClear). Built once with the
-    /// accelerator: a mesh's box takes a pass over its triangles (3-5 ms for
-    /// 10^6), which every render pass paid, before its tiles, while the
-    /// integrator built them.
+    /// accelerator, not per render pass: a mesh's box is a pass over its triangles.
     const ShapeBounds& shapeBounds() const { return shapeBounds_; }
 
 protected:
@@ -148,8 +147,8 @@ std::unique_ptr<Accelerator> makeEmbreeAccelerator(const Scene& scene, BuildQual
 /// The O(N) reference: tests every primitive with the same routines.
 std::unique_ptr<Accelerator> makeNaiveAccelerator(const Scene& scene);
 
-/// "embree" or "naive" (case-sensitive); throws Error(InvalidArgument) otherwise.
-std::unique_ptr<Accelerator> makeAccelerator(const std::string& name, const Scene& scene,
+/// The accelerator of that kind; throws Error(InvalidArgument) for a value that is none.
+std::unique_ptr<Accelerator> makeAccelerator(AcceleratorKind kind, const Scene& scene,
                                              BuildQuality quality = BuildQuality::High);
 
 }  // namespace penumbra

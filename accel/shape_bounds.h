@@ -23,9 +23,8 @@ class ShapeBounds {
 public:
     /// At most kMaxShapes shapes (spheres, boxes, rectangles, disks, meshes
     /// and instances; infinite planes are not counted), or none are kept:
-    /// the tests' cost grows with them and their gain falls (showcase.json,
-    /// 10 shapes whose bounds most shadow rays meet: 1.04x the render time
-    /// with Embree's lane test; room.json, 8: 0.95x).
+    /// the tests' cost grows with them and their gain falls (figures:
+    /// docs/accelerators.md, "Occlusion packets skip what meets no shape's bounds").
     static constexpr size_t kMaxShapes = 8;
 
     explicit ShapeBounds(const Scene& scene);

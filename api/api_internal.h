@@ -97,7 +97,6 @@ struct Access {
     static const Framebuffer::Impl& of(const Framebuffer& f) { return *f.impl_; }
     static const pn::Logger& log(const Renderer& r) { return r.impl_->log; }
     static void set(RenderJob& j, std::unique_ptr<RenderJob::Impl> impl) { j.impl_ = std::move(impl); }
-    static ImageEncoder::Impl* of(const ImageEncoder& e) { return e.impl_.get(); }
 };
 }  // namespace detail
 
@@ -153,7 +152,8 @@ void accumulate(RenderStats& total, const RenderStats& pass);
 
 /// The prepared data behind a handle; throws for an empty one.
 const PreparedImpl& requirePrepared(const PreparedScene& p);
-/// The window a render covers: the crop, or the whole frame.
-inline CropWindow windowOf(const RenderSettings& s) { return s.crop ? *s.crop : CropWindow{0, 0, s.width, s.height}; }
+/// A framebuffer for valid settings (the public constructor validates them first); throws
+/// Error(OutOfMemory) when it would need more than half the machine's memory.
+Framebuffer newFramebuffer(const RenderSettings& settings);
 
 }  // namespace pnb

@@ -356,7 +356,7 @@ pnb_status pnb_prepare(pnb_renderer* renderer, const pnb_scene* scene, const pnb
         need(out, "out");
         pnb::PrepareOptions po;
         if (options) {
-            if (options->accelerator) po.accelerator = options->accelerator;
+            po.accelerator = static_cast<pnb::AcceleratorKind>(rawEnum(options->accelerator));  // checked by prepare
             const int quality = rawEnum(options->quality);
             if (quality < PNB_BUILD_LOW || quality > PNB_BUILD_HIGH)
                 throw pnb::Error(pnb::ErrorCode::InvalidArgument,

@@ -35,6 +35,8 @@ PNB_SAME_VALUE(PNB_DIRECT_LIGHT_LIGHT, pnb::DirectLightSampling::Light);
 PNB_SAME_VALUE(PNB_BUILD_LOW, pnb::BuildQuality::Low);
 PNB_SAME_VALUE(PNB_BUILD_MEDIUM, pnb::BuildQuality::Medium);
 PNB_SAME_VALUE(PNB_BUILD_HIGH, pnb::BuildQuality::High);
+PNB_SAME_VALUE(PNB_ACCEL_EMBREE, pnb::AcceleratorKind::Embree);
+PNB_SAME_VALUE(PNB_ACCEL_NAIVE, pnb::AcceleratorKind::Naive);
 #undef PNB_SAME_VALUE
 
 // Structs of the same layout: the conversions are member-wise copies.
@@ -231,7 +233,7 @@ void pnb_load_options_init(pnb_load_options* o) {
 }
 
 void pnb_prepare_options_init(pnb_prepare_options* o) {
-    if (o) *o = pnb_prepare_options{"embree", PNB_BUILD_HIGH};
+    if (o) *o = pnb_prepare_options{PNB_ACCEL_EMBREE, PNB_BUILD_HIGH};
 }
 
 void pnb_image_options_init(pnb_image_options* o) {

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "core/image_encoder_process.h"
 #include "core/image_io.h"
 
 namespace pnb {
@@ -33,28 +32,32 @@ void copyInto(const std::vector<float>& src, float* dst, size_t floatCount, cons
 
 Framebuffer::Framebuffer() : impl_(std::make_unique<Impl>()) {}
 
-Framebuffer::Framebuffer(const RenderSettings& settings) {
-    impl_ = guarded([&] {
-        const RenderSettings& s = settings;
-        pn::validateSettings(s);
-        const CropWindow w = windowOf(s);
-        const uint64_t bytes = pn::Film::bytesNeeded(int64_t(w.x1 - w.x0) * (w.y1 - w.y0), s.aovs);
-        const uint64_t ram = physicalMemoryBytes();
-        if (ram && bytes > ram / 2)
-            fail(ErrorCode::OutOfMemory, "a " + std::to_string(w.x1 - w.x0) + "x" + std::to_string(w.y1 - w.y0) +
-                                             " framebuffer needs " + std::to_string(bytes >> 20) +
-                                             " MiB, more than half of this machine's memory");
-        auto impl = std::make_unique<Impl>();
-        impl->film = pn::makeFilm(s);
-        impl->seed = s.seed;
-        return impl;
+Framebuffer newFramebuffer(const RenderSettings& s) {
+    const CropWindow w = renderWindow(s);
+    const uint64_t bytes = pn::Film::bytesNeeded(int64_t(w.x1 - w.x0) * (w.y1 - w.y0), s.aovs);
+    const uint64_t ram = physicalMemoryBytes();
+    if (ram && bytes > ram / 2)
+        fail(ErrorCode::OutOfMemory, "a " + std::to_string(w.x1 - w.x0) + "x" + std::to_string(w.y1 - w.y0) +
+                                         " framebuffer needs " + std::to_string(bytes >> 20) +
+                                         " MiB, more than half of this machine's memory");
+    Framebuffer image;
+    FramebufferImpl& impl = Access::of(image);
+    impl.film = pn::makeFilm(s);
+    impl.seed = s.seed;
+    return image;
+}
+
+Framebuffer::Framebuffer(const RenderSettings& settings) : impl_(std::make_unique<Impl>()) {
+    guarded([&] {
+        pn::validateSettings(settings);
+        *this = newFramebuffer(settings);
     });
 }
 
 std::uint64_t Framebuffer::bytesNeeded(const RenderSettings& settings) {
     return guarded([&] {
         pn::validateSettings(settings);
-        const CropWindow w = windowOf(settings);
+        const CropWindow w = renderWindow(settings);
         return pn::Film::bytesNeeded(int64_t(w.x1 - w.x0) * (w.y1 - w.y0), settings.aovs);
     });
 }
@@ -220,16 +223,6 @@ Framebuffer Framebuffer::deserialize(const std::uint8_t* data, std::size_t size)
     return f;
 }
 
-struct ImageEncoder::Impl {
-    std::unique_ptr<pn::ImageEncoderProcess> process;
-};
-
-ImageEncoder::ImageEncoder() : impl_(std::make_unique<Impl>()) { impl_->process = pn::ImageEncoderProcess::start(); }
-
-ImageEncoder::~ImageEncoder() = default;
-
-bool ImageEncoder::running() const noexcept { return impl_->process && impl_->process->pid() > 0; }
-
 void Framebuffer::writeImage(const std::string& path, const ImageOptions& options) const {
     guarded([&] {
         require(impl_->film.width() > 0, path + ": cannot write an empty framebuffer");
@@ -237,7 +230,6 @@ void Framebuffer::writeImage(const std::string& path, const ImageOptions& option
         pn::ImageWriteOptions wo;
         wo.exposure = options.exposure;
         wo.aovs = options.aovs;
-        if (options.encoder) wo.encoder = Access::of(*options.encoder)->process.get();
         // A crop's EXR says where its pixels lie in the full frame.
         const pn::CropWindow& w = impl_->film.window();
         wo.dataOriginX = w.x0;

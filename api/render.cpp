@@ -8,20 +8,30 @@ namespace pnb {
 
 namespace {
 
-// Checks a pass against its framebuffer before anything is written, so a
-// rejected call leaves the framebuffer untouched.
+std::string windowText(int width, int height, const CropWindow& w) {
+    return std::to_string(width) + "x" + std::to_string(height) + ", window " + std::to_string(w.x0) + "," +
+           std::to_string(w.y0) + "," + std::to_string(w.x1) + "," + std::to_string(w.y1);
+}
+
+// The one gate of a render call: the scene handle, camera and settings.
+const PreparedImpl& checkRender(const PreparedScene& scene, const Camera& camera, const RenderSettings& s) {
+    const PreparedImpl& p = requirePrepared(scene);
+    pn::validateSettings(s);
+    pn::validateCamera(camera);
+    return p;
+}
+
+// The pass [first, first + count) against the framebuffer it adds to, checked
+// before anything is written, so a rejected call leaves the framebuffer
+// untouched. The settings are valid (checkRender); nothing below checks again.
 void checkPass(const RenderSettings& s, const FramebufferImpl& fb, uint32_t first, uint32_t count) {
     const pn::Film& f = fb.film;
     require(f.fullWidth() > 0, "the framebuffer is empty (create it from the render settings)");
     require(!fb.incomplete, "the framebuffer holds a cancelled or failed pass; clear() it first");
-    const CropWindow w = windowOf(s);
+    const CropWindow w = renderWindow(s);
     require(f.fullWidth() == s.width && f.fullHeight() == s.height && f.window() == w,
-            "the framebuffer (" + std::to_string(f.fullWidth()) + "x" + std::to_string(f.fullHeight()) + ", window " +
-                std::to_string(f.window().x0) + "," + std::to_string(f.window().y0) + "," +
-                std::to_string(f.window().x1) + "," + std::to_string(f.window().y1) +
-                ") does not match the render settings (" + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                ", window " + std::to_string(w.x0) + "," + std::to_string(w.y0) + "," + std::to_string(w.x1) + "," +
-                std::to_string(w.y1) + ")");
+            "the framebuffer (" + windowText(f.fullWidth(), f.fullHeight(), f.window()) +
+                ") does not match the render settings (" + windowText(s.width, s.height, w) + ")");
     require(uint64_t(first) + count <= uint64_t(s.spp), "samples [" + std::to_string(first) + ", " +
                                                             std::to_string(uint64_t(first) + count) +
                                                             ") exceed spp = " + std::to_string(s.spp));
@@ -30,11 +40,10 @@ void checkPass(const RenderSettings& s, const FramebufferImpl& fb, uint32_t firs
                                           std::to_string(first));
 }
 
-// One checked pass; `progress` receives the fraction of this pass, `tiles` the same in tiles.
+// One pass of checked arguments; `progress` receives the fraction of this pass, `tiles` the same in tiles.
 RenderStats runPass(const PreparedImpl& p, const pn::CameraDesc& camera, const RenderSettings& s,
                     FramebufferImpl& fb, uint32_t first, uint32_t count, const std::function<void(double)>& progress,
                     const std::atomic<bool>* cancel, const std::function<void(size_t, size_t)>& tiles = {}) {
-    checkPass(s, fb, first, count);
     pn::RenderControl control;
     control.cancel = cancel;
     if (progress || tiles)
@@ -53,9 +62,14 @@ RenderStats runPass(const PreparedImpl& p, const pn::CameraDesc& camera, const R
     return pass.stats;
 }
 
-void checkCameraAndSettings(const Camera& camera, const RenderSettings& s) {
-    pn::validateSettings(s);
-    pn::validateCamera(camera);
+// The samples `fb` is missing, [its count, spp), for arguments checkRender passed.
+RenderStats renderRest(const PreparedImpl& p, const Camera& camera, const RenderSettings& s, FramebufferImpl& fb,
+                       const RenderControl& control) {
+    const uint32_t have = fb.film.sampleCount(), spp = uint32_t(s.spp);
+    require(have <= spp, "the framebuffer already holds " + std::to_string(have) + " samples per pixel, spp is " +
+                             std::to_string(spp));
+    checkPass(s, fb, have, spp - have);
+    return runPass(p, camera, s, fb, have, spp - have, control.progress, control.cancel, control.tileProgress);
 }
 
 }  // namespace
@@ -118,35 +132,32 @@ Framebuffer RenderJob::takeFramebuffer() {
 
 Framebuffer Renderer::render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
                              const RenderControl& control) const {
-    Framebuffer image(settings);
-    render(scene, camera, settings, image, control);
-    return image;
+    return guarded([&] {
+        const PreparedImpl& p = checkRender(scene, camera, settings);
+        Framebuffer image = newFramebuffer(settings);
+        renderRest(p, camera, settings, Access::of(image), control);
+        return image;
+    });
 }
 
 RenderStats Renderer::render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
                              Framebuffer& image, const RenderControl& control) const {
     return guarded([&] {
-        pn::validateSettings(settings);
-        const uint32_t have = image.sampleCount();
-        require(have <= uint32_t(settings.spp),
-                "the framebuffer already holds " + std::to_string(have) + " samples per pixel, spp is " +
-                    std::to_string(settings.spp));
-        return renderPass(scene, camera, settings, image, have, uint32_t(settings.spp) - have, control);
+        return renderRest(checkRender(scene, camera, settings), camera, settings, Access::of(image), control);
     });
 }
 
 RenderStats Renderer::render(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
                              float* rgba, std::size_t floatCount, const RenderControl& control) const {
     return guarded([&] {
-        const RenderSettings& s = settings;
-        pn::validateSettings(s);
-        const CropWindow w = windowOf(s);
+        const PreparedImpl& p = checkRender(scene, camera, settings);
+        const CropWindow w = renderWindow(settings);
         const size_t needed = 4 * size_t(w.x1 - w.x0) * size_t(w.y1 - w.y0);
         require(rgba != nullptr, "render: destination is null");
         require(floatCount >= needed, "render: destination holds " + std::to_string(floatCount) +
                                           " floats, the image needs " + std::to_string(needed));
-        Framebuffer image(settings);
-        RenderStats st = render(scene, camera, settings, image, control);
+        Framebuffer image = newFramebuffer(settings);
+        const RenderStats st = renderRest(p, camera, settings, Access::of(image), control);
         image.readRgba(rgba, floatCount);
         return st;
     });
@@ -156,22 +167,21 @@ RenderStats Renderer::renderPass(const PreparedScene& scene, const Camera& camer
                                  Framebuffer& image, std::uint32_t firstSample, std::uint32_t sampleCount,
                                  const RenderControl& control) const {
     return guarded([&] {
-        const PreparedImpl& p = requirePrepared(scene);
-        const RenderSettings& s = settings;
-        checkCameraAndSettings(camera, s);
-        return runPass(p, camera, s, Access::of(image), firstSample, sampleCount, control.progress,
-                       control.cancel, control.tileProgress);
+        const PreparedImpl& p = checkRender(scene, camera, settings);
+        FramebufferImpl& fb = Access::of(image);
+        checkPass(settings, fb, firstSample, sampleCount);
+        return runPass(p, camera, settings, fb, firstSample, sampleCount, control.progress, control.cancel,
+                       control.tileProgress);
     });
 }
 
 RenderJob Renderer::renderAsync(const PreparedScene& scene, const Camera& camera, const RenderSettings& settings,
                                 AsyncOptions options) const {
     return guarded([&] {
-        requirePrepared(scene);
+        checkRender(scene, camera, settings);
         const RenderSettings& s = settings;
-        checkCameraAndSettings(camera, s);
         auto state = std::make_shared<JobState>();
-        state->image = Framebuffer(settings);
+        state->image = newFramebuffer(settings);
 
         auto work = [state, prepared = PreparedScene(scene), cam = camera, s, opts = std::move(options)]() mutable {
             JobResult result;

@@ -34,4 +34,11 @@ foreach(_needed "pnb_render_async" "pnb_renderer_create" "pnb::Renderer::prepare
     message(FATAL_ERROR "${LIBRARY} does not export ${_needed}")
   endif()
 endforeach()
+# Gone from the API: the image encoder helper process (images are encoded in the calling process).
+foreach(_gone "pnb::ImageEncoder")
+  string(FIND "${_out}" "${_gone}" _at)
+  if(NOT _at EQUAL -1)
+    message(FATAL_ERROR "${LIBRARY} still exports ${_gone}")
+  endif()
+endforeach()
 message(STATUS "exports: ${_count} symbols, all pnb:: or pnb_")

@@ -1,6 +1,7 @@
 #include "core/camera.h"
 
 #include <algorithm>
+#include <cassert>
 
 #include "core/error.h"
 #include "core/lane_clones.h"
@@ -8,25 +9,25 @@
 
 namespace penumbra {
 
-void validateCamera(const CameraDesc& d) {
-    if (!isFinite(d.eye) || !isFinite(d.lookAt) || !isFinite(d.up))
-        throw Error(ErrorCode::InvalidArgument, "camera: eye, look-at and up must be finite");
+const char* cameraProblem(const CameraDesc& d) {
+    if (!isFinite(d.eye) || !isFinite(d.lookAt) || !isFinite(d.up)) return "camera: eye, look-at and up must be finite";
     Vec3f view = d.lookAt - d.eye;
-    if (!(lengthSquared(view) > 0.f)) throw Error(ErrorCode::InvalidArgument, "camera: eye and look-at are the same point");
-    if (!(lengthSquared(d.up) > 0.f)) throw Error(ErrorCode::InvalidArgument, "camera: up vector is zero");
+    if (!(lengthSquared(view) > 0.f)) return "camera: eye and look-at are the same point";
+    if (!(lengthSquared(d.up) > 0.f)) return "camera: up vector is zero";
     Vec3f vn = normalize(view), un = normalize(d.up);
-    if (lengthSquared(cross(vn, un)) < 1e-10f)
-        throw Error(ErrorCode::InvalidArgument, "camera: up vector is parallel to the view direction");
-    if (!(d.vfovDegrees > 0.f && d.vfovDegrees < 180.f))
-        throw Error(ErrorCode::InvalidArgument, "camera: fov must lie in (0, 180) degrees");
-    if (!std::isfinite(d.aperture) || d.aperture < 0.f)
-        throw Error(ErrorCode::InvalidArgument, "camera: aperture must be finite and >= 0");
-    if (!std::isfinite(d.focusDistance) || d.focusDistance < 0.f)
-        throw Error(ErrorCode::InvalidArgument, "camera: focus distance must be finite and >= 0");
+    if (lengthSquared(cross(vn, un)) < 1e-10f) return "camera: up vector is parallel to the view direction";
+    if (!(d.vfovDegrees > 0.f && d.vfovDegrees < 180.f)) return "camera: fov must lie in (0, 180) degrees";
+    if (!std::isfinite(d.aperture) || d.aperture < 0.f) return "camera: aperture must be finite and >= 0";
+    if (!std::isfinite(d.focusDistance) || d.focusDistance < 0.f) return "camera: focus distance must be finite and >= 0";
+    return nullptr;
+}
+
+void validateCamera(const CameraDesc& d) {
+    if (const char* problem = cameraProblem(d)) throw Error(ErrorCode::InvalidArgument, problem);
 }
 
 Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), width_(width), height_(height) {
-    validateCamera(desc);
+    assert(!cameraProblem(desc));
     w_ = normalize(desc.eye - desc.lookAt);
     u_ = normalize(cross(desc.up, w_));
     v_ = cross(w_, u_);

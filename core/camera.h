@@ -11,12 +11,16 @@ namespace penumbra {
 /// What places the camera: the API's value type (api/include/penumbra/types.hpp).
 using CameraDesc = pnb::Camera;
 
-/// Throws Error(InvalidArgument) naming the problem: eye == lookAt, up parallel
-/// to the view direction, fov outside (0, 180), non-finite values, negative aperture.
+/// What is wrong with the camera (eye == lookAt, up parallel to the view
+/// direction, fov outside (0, 180), non-finite values, negative aperture), or
+/// nullptr when nothing is.
+const char* cameraProblem(const CameraDesc& desc);
+/// Throws Error(InvalidArgument) with cameraProblem's message.
 void validateCamera(const CameraDesc& desc);
 
 class Camera {
 public:
+    /// `desc` must be valid: the API checks it (validateCamera), so this only asserts.
     Camera(const CameraDesc& desc, int width, int height);
 
     /// Ray through film position (px, py) in pixels (continuous: pixel (x, y)

@@ -7,11 +7,9 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <optional>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "core/image_encoder_process.h"
 #include "core/oiio_library.h"
 #include "core/srgb8.h"
 
@@ -61,15 +59,10 @@ std::vector<oiio::Attribute> metadataAttributes(const ImageMetadata& m) {
     return a;
 }
 
-// OpenImageIO encodes into memory (in the helper process where there is one);
-// the bytes are written by StagedFile.
-Bytes encodeWithOiio(const fs::path& path, oiio::EncodeRequest& rq, ImageEncoderProcess* encoder) {
+// OpenImageIO encodes into memory; the bytes are written by StagedFile.
+Bytes encodeWithOiio(const fs::path& path, const oiio::EncodeRequest& rq) {
     Bytes out;
     std::string error;
-    if (const std::optional<bool> done = encoder ? encoder->encode(rq, out, error) : std::nullopt) {
-        if (!*done) writeFailed(path, error.empty() ? std::string("encoding failed") : error);
-        return out;
-    }
     const oiio::Api* api = nullptr;
     try {
         api = &oiioLibrary();
@@ -123,7 +116,7 @@ Bytes encodeAovExr(const fs::path& path, const Film& film, const ImageWriteOptio
         p[c++] = film.depth(i);
     }
     rq.pixels = px.data();
-    return encodeWithOiio(path, rq, options.encoder);
+    return encodeWithOiio(path, rq);
 }
 
 // The whole file's bytes in memory, for every format.
@@ -148,7 +141,7 @@ Bytes encodeImage(const fs::path& path, ImageFormat fmt, const Film& film, const
         if (fmt == ImageFormat::Exr) placeCrop(rq, options);
         const std::vector<float> px = film.radianceBuffer(3);
         rq.pixels = px.data();
-        return encodeWithOiio(path, rq, options.encoder);
+        return encodeWithOiio(path, rq);
     }
     if (fmt == ImageFormat::Jpg && (w > kMaxJpegSide || h > kMaxJpegSide))
         writeFailed(path, "JPEG stores at most " + std::to_string(kMaxJpegSide) + " pixels a side, the image is " +
@@ -159,8 +152,8 @@ Bytes encodeImage(const fs::path& path, ImageFormat fmt, const Film& film, const
     // IOProxy when it adds an Exif directory (the header then lacks
     // ImageLength); the Exif block only repeated the colour space.
     if (fmt == ImageFormat::Tif) rq.attributes.push_back({"tiff:write_exif", oiio::Attribute::Kind::Int, 0, 0.f, {}});
-    // zlib level 4, not OpenImageIO's 6: the encoding is 2.2-2.6x faster (20 -> 9 ms for a
-    // 512x512 render, all of it after the render) and the file 8-17% larger.
+    // zlib level 4, not OpenImageIO's 6: encoding is over twice as fast for a slightly larger
+    // file, and all of it comes after the render (figures: README, "Output").
     if (fmt == ImageFormat::Png)
         rq.attributes.push_back({"png:compressionLevel", oiio::Attribute::Kind::Int, kPngZlibLevel, 0.f, {}});
     const float scale = std::exp2(options.exposure);
@@ -173,7 +166,7 @@ Bytes encodeImage(const fs::path& path, ImageFormat fmt, const Film& film, const
         px[3 * i + 2] = srgb8(L.b);
     }
     rq.pixels = px.data();
-    return encodeWithOiio(path, rq, options.encoder);
+    return encodeWithOiio(path, rq);
 }
 
 }  // namespace

@@ -13,8 +13,6 @@
 
 namespace penumbra {
 
-class ImageEncoderProcess;  // core/image_encoder_process.h
-
 enum class ImageFormat { Exr, Hdr, Pfm, Png, Jpg, Tif };
 
 /// Format from the file extension (case-insensitive); throws
@@ -39,8 +37,6 @@ struct ImageWriteOptions {
     // window; other formats ignore it. 0 x 0 (the default): the whole image.
     int dataOriginX = 0, dataOriginY = 0;
     int fullWidth = 0, fullHeight = 0;
-    // Encode in this helper process where it answers (core/image_encoder_process.h); else in-process.
-    ImageEncoderProcess* encoder = nullptr;
 };
 
 /// Writes the film's averaged radiance. Float formats get the linear values

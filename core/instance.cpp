@@ -1,12 +1,59 @@
 #include "core/instance.h"
 
+#include <limits>
+
+#include "core/error.h"
 #include "core/shapes.h"
 
+#ifndef PENUMBRA_MAX_COPIED_TRIANGLES
+#define PENUMBRA_MAX_COPIED_TRIANGLES 100000000
+#endif
+
 namespace penumbra {
+namespace {
+
+uint64_t saturatingMul(uint64_t a, uint64_t b) {
+    uint64_t r;
+    return __builtin_mul_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
+}
+
+uint64_t saturatingAdd(uint64_t a, uint64_t b) {
+    uint64_t r;
+    return __builtin_add_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
+}
+
+std::string counted(uint64_t n) {
+    return n == std::numeric_limits<uint64_t>::max() ? "more than 2^64" : std::to_string(n);
+}
+
+}  // namespace
+
+uint64_t maxCopiedTriangles() { return PENUMBRA_MAX_COPIED_TRIANGLES; }
+
+void CopyCount::add(uint64_t copies, uint64_t triangles, uint64_t vertices) {
+    triangles_ = saturatingAdd(triangles_, saturatingMul(copies, triangles));
+    vertices_ = saturatingAdd(vertices_, saturatingMul(copies, vertices));
+}
+
+void CopyCount::check(const std::string& what) const {
+    const uint64_t limit = maxCopiedTriangles();
+    if (triangles_ <= limit && vertices_ / 3 <= limit) return;
+    throw Error(ErrorCode::InvalidScene,
+                what + " would copy " + counted(triangles_) + " triangles (" + counted(vertices_) +
+                    " vertices), more than the " + std::to_string(limit) +
+                    " triangles (three times as many vertices) that copies may add to a scene; top-level instances "
+                    "of non-emissive prototypes are not copied");
+}
 
 size_t Prototype::triangleCount() const {
     size_t n = 0;
     for (const TriangleMesh& m : meshes) n += m.triangleCount();
+    return n;
+}
+
+size_t Prototype::vertexCount() const {
+    size_t n = 0;
+    for (const TriangleMesh& m : meshes) n += m.positions.size();
     return n;
 }
 
@@ -26,11 +73,14 @@ Instance makeInstance(uint32_t prototype, const Transform& worldFromObject, uint
 }
 
 Bounds3f instanceBounds(const Prototype& prototype, const Instance& instance) {
-    const Bounds3f o = prototype.bounds();
+    return instanceBounds(prototype.bounds(), instance.worldFromObject);
+}
+
+Bounds3f instanceBounds(const Bounds3f& o, const Transform& worldFromObject) {
     Bounds3f b;
     if (o.empty()) return b;
     for (int i = 0; i < 8; ++i)
-        b.extend(instance.worldFromObject.applyPoint(
+        b.extend(worldFromObject.applyPoint(
             Vec3f{(i & 1) ? o.hi.x : o.lo.x, (i & 2) ? o.hi.y : o.lo.y, (i & 4) ? o.hi.z : o.lo.z}));
     return b;
 }
@@ -53,6 +103,18 @@ TriangleMesh placedCopy(const TriangleMesh& mesh, const Transform& worldFromObje
     m.faceMaterials = mesh.faceMaterials;
     m.material = mesh.material;
     return m;
+}
+
+void appendPlacedCopies(const Prototype& prototype, const Transform& worldFromObject, uint32_t material,
+                        std::vector<TriangleMesh>& out) {
+    for (const TriangleMesh& m : prototype.meshes) {
+        TriangleMesh copy = placedCopy(m, worldFromObject);
+        if (material != kNoMaterialOverride) {
+            copy.material = material;
+            copy.faceMaterials.clear();
+        }
+        out.push_back(std::move(copy));
+    }
 }
 
 }  // namespace penumbra

@@ -12,8 +12,8 @@
 // light, the packet queries): their small loops over a batch and the inline
 // helpers they pull in compile to AVX code there, which the baseline build
 // cannot use. Only large functions: a call to a copy goes through the
-// dispatcher and cannot be inlined (measured: cloning the shapes' small
-// completeHit functions gained nothing).
+// dispatcher and cannot be inlined, which costs small functions (the shapes'
+// completeHit) what their wider code gains.
 #pragma once
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)

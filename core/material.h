@@ -1,6 +1,6 @@
-// Materials: the API's value type (api/include/penumbra/types.hpp: Phong, and
-// glTF's metal-roughness model) and what the scene resolved its textures to.
-// See docs/ and shading/phong.h for the Phong BRDF.
+// Materials: the API's value type (api/include/penumbra/types.hpp: Phong with mirror and glass,
+// and glTF's metal-roughness model) and what the scene resolved its textures to. The Phong BRDF
+// is shading/bsdf/phong.h (docs/rendering.md).
 #pragma once
 
 #include <penumbra/types.hpp>
@@ -55,7 +55,7 @@ struct Material : pnb::Material {
     bool isMirror() const { return Rgb(kr).maxComponent() > 0.f; }
     /// Has a Phong lobe (ks > 0): its response needs more than the diffuse term.
     bool isGlossy() const { return Rgb(ks).maxComponent() > 0.f; }
-    /// Smooth glass: Fresnel reflection and refraction (shading/dielectric.h); kr is not used then.
+    /// Smooth glass: Fresnel reflection and refraction (shading/bsdf/dielectric.h); kr is not used then.
     bool isDielectric() const { return Rgb(kt).maxComponent() > 0.f; }
     /// Whether a hit on it needs texture coordinates (any texture), the
     /// second uv set, or a tangent frame (a normal or bump map).

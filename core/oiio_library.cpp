@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "core/dependency_order.h"
 #include "core/error.h"
 
 namespace penumbra {
@@ -51,12 +50,6 @@ Loaded load() {
         }
         if (!tried.empty()) tried += ", ";
         tried += name;
-        // The module's libraries one by one first, deepest first (core/dependency_order.h:
-        // the loader's symbol lookups stay short). One that fails to load is left to the
-        // module's own load, which then says why. Never closed, as the module.
-        if (name.find('/') != std::string::npos)
-            for (const std::string& library : dependenciesDeepestFirst(name))
-                if (!::dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL)) ::dlerror();
         // Never closed: OpenImageIO registers exit handlers and threads, so it stays for the process.
         void* handle = ::dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (!handle) {

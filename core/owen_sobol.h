@@ -31,8 +31,7 @@ namespace penumbra {
 namespace detail {
 
 // Bit reversal by bytes through a 256-entry table: four loads instead of a
-// byte swap and three mask-and-shift rounds (about 10% faster per point,
-// the same values).
+// byte swap and three mask-and-shift rounds, faster per point, the same values.
 struct ByteReverseTable {
     uint8_t t[256];
     constexpr ByteReverseTable() : t{} {

@@ -10,9 +10,14 @@ namespace penumbra {
 
 int hardwareThreads() { return tbb::info::default_concurrency(); }
 
+int threadsFor(int requested) {
+    const int hardware = hardwareThreads();
+    return requested > 0 && requested < hardware ? requested : hardware;
+}
+
 void parallelFor(size_t count, int threads, const std::function<void(size_t)>& body) {
     if (count == 0) return;
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    tbb::task_arena arena(threadsFor(threads));
     arena.execute([&] {
         tbb::parallel_for(
             tbb::blocked_range<size_t>(0, count, 1),

@@ -84,21 +84,9 @@ size_t dropBadInstances(std::vector<Instance>& instances, size_t prototypeCount)
 // The rule of core/instance.h: an instance that would emit light becomes
 // ordinary meshes, so the light set sees each copy as an area light.
 void expandEmissiveInstances(Scene& s) {
-    auto emissive = [&](const Instance& in) {
-        if (in.material != kNoMaterialOverride)
-            return s.materials[in.material < s.materials.size() ? in.material : 0].isEmissive();
-        return s.prototypes[in.prototype].usesEmissive(s.materials);
-    };
     eraseIf(s.instances, [&](const Instance& in) {
-        if (!emissive(in)) return false;
-        for (const TriangleMesh& m : s.prototypes[in.prototype].meshes) {
-            TriangleMesh copy = placedCopy(m, in.worldFromObject);
-            if (in.material != kNoMaterialOverride) {
-                copy.material = in.material;
-                copy.faceMaterials.clear();
-            }
-            s.meshes.push_back(std::move(copy));
-        }
+        if (!s.expandsInstance(in)) return false;
+        appendPlacedCopies(s.prototypes[in.prototype], in.worldFromObject, in.material, s.meshes);
         return true;
     });
 }
@@ -113,6 +101,9 @@ SceneFixups Scene::finalize(const Logger& log) {
         materials.push_back(def);
     }
     fix.droppedInstances += dropBadInstances(instances, prototypes.size());
+    CopyCount copies;
+    countExpansion(copies);
+    copies.check("the scene's emissive instances (expanded into meshes, each an area light)");
     expandEmissiveInstances(*this);
     for (auto& m : meshes) fix.droppedTriangles += repairMesh(m, log);
     eraseIf(meshes, [](const TriangleMesh& m) { return m.indices.empty(); });
@@ -213,6 +204,18 @@ const TextureSource* Scene::findTexture(const std::string& name) const {
     for (const TextureSource& t : textures)
         if (t.name == name) return &t;
     return nullptr;
+}
+
+bool Scene::expandsInstance(const Instance& in) const {
+    if (materials.empty()) return false;  // finalize() adds the default material first
+    if (in.material != kNoMaterialOverride) return materials[in.material < materials.size() ? in.material : 0].isEmissive();
+    return in.prototype < prototypes.size() && prototypes[in.prototype].usesEmissive(materials);
+}
+
+void Scene::countExpansion(CopyCount& count) const {
+    for (const Instance& in : instances)
+        if (in.prototype < prototypes.size() && expandsInstance(in))
+            count.add(1, prototypes[in.prototype].triangleCount(), prototypes[in.prototype].vertexCount());
 }
 
 bool Scene::hasLight() const {

@@ -92,8 +92,16 @@ public:
     /// materials gets the default grey one. Instances with an unknown or empty
     /// prototype or a non-finite or singular transform are dropped; instances
     /// of emissive prototypes (or with an emissive material override) are
-    /// expanded into world-space meshes (core/instance.h). Idempotent.
+    /// expanded into world-space meshes (core/instance.h); throws
+    /// Error(InvalidScene) when those copies would pass CopyCount's limit.
+    /// Idempotent.
     SceneFixups finalize(const Logger& log);
+
+    /// Whether finalize() expands this instance into meshes: its prototype,
+    /// or its material override, emits light.
+    bool expandsInstance(const Instance& in) const;
+    /// Adds the copies finalize() makes of the instances it expands.
+    void countExpansion(CopyCount& count) const;
 
     /// Whether anything lights the scene: geometry with an emissive material,
     /// a point or directional light, an environment, or a non-black ambient
@@ -111,11 +119,9 @@ public:
         return h;
     }
     /// The same, written into h in place (every field; the renderer's batches).
-    /// ref by reference: taken by value, it arrived in two registers, was
-    /// spilled as two 8-byte stores and read back for h.ref as one 16-byte
-    /// load, which the CPU cannot forward from two stores: a stall on every
-    /// hit (textbook_fig18_04.json renders in 0.973x the time this way; 12
-    /// rounds, fresh copies, same bits).
+    /// ref by reference: by value it is spilled as two 8-byte stores and read
+    /// back as one 16-byte load, which the CPU cannot forward from two stores
+    /// (docs/benchmarks.md, "No wide reload of narrow stores").
     void completeHit(const Ray& ray, const PrimRef& ref, float t, float u, float v, Hit& h) const;
     /// Whether material id has a texture, so that its hits need texture
     /// coordinates (Hit::uv); false for an id with no material. One byte per

@@ -53,7 +53,7 @@ struct Box {
 };
 Box makeBox(const Vec3f& lo, const Vec3f& hi, const Transform& worldFromObject = Transform(), uint32_t material = 0);
 
-/// Parallelogram p0 + s*a + t*b, s,t in [0,1] (the lecture's Rectangle).
+/// Parallelogram p0 + s*a + t*b, s,t in [0,1] (a scene file's "rectangle").
 /// Front side faces cross(a, b). Hit (u, v) = (s, t).
 struct Rectangle {
     Vec3f p0;
@@ -137,10 +137,8 @@ std::optional<PrimHit> intersect(const Disk& d, const Ray& r);
 /// withUv: whether to compute the uv of a sphere, plane or box (else (0, 0)):
 /// only a textured material reads it, and it costs a sphere two inverse
 /// trigonometric functions, a plane its tangent frame, a box two divisions
-/// (measured with them skipped for untextured materials, 1 thread, A/B with
-/// fresh copies: textbook_fig24_06.json 0.964x render time, textbook_fig18_04.json
-/// 0.977x, room.json 0.974x; images identical). The others' uv is a copy or
-/// an interpolation, always made.
+/// (the gain: docs/benchmarks.md, "Texture coordinates only where a texture
+/// reads them"). The others' uv is a copy or an interpolation, always made.
 void completeHit(const Sphere& s, const Ray& r, float t, Hit& h, bool withUv = true);
 /// (Inline: the ground plane's hits are most of some scenes' camera hits.)
 inline void completeHit(const Plane& pl, const Ray& ray, float t, Hit& h, bool withUv = true) {

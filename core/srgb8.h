@@ -11,8 +11,8 @@ namespace penumbra {
 uint8_t srgb8Code(float v);
 
 /// srgb8Code by 255 thresholds found once per image: where a code starts is
-/// searched in 8 branch-free comparisons instead of a pow per channel (about
-/// 25 ns each, 7 ms of a 512x512 image written after the render). The codes
+/// searched in 8 branch-free comparisons instead of a pow per channel, which
+/// made encoding an 8-bit image a visible part of a short render. The codes
 /// are srgb8Code's bit for bit: each threshold is the smallest float with the
 /// next code, found by bisection over the floats with srgb8Code itself, which
 /// is non-decreasing (checked over every float in [0, 1]). Negative values

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -15,9 +16,18 @@
 #include "core/image_io.h"
 #include "core/oiio_library.h"
 #include "core/parallel.h"
+#include "core/srgb8.h"
 
 namespace penumbra {
 namespace {
+
+// Linear values of the 8-bit sRGB codes: texels are decoded as they are read,
+// so that filtering and MIP averaging happen on light, not on its encoding.
+const std::array<float, 256> kSrgbDecode = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = srgbToLinear(float(i) / 255.f);
+    return t;
+}();
 
 // One MIP level: texels of 1 to 4 channels (grey, grey + alpha, RGB, RGBA), 8-bit or float, row 0 on top.
 struct Level {
@@ -55,13 +65,14 @@ struct Texture {
     std::vector<Level> levels;
     int channels = 0;  // 1 to 4
     bool is8bit = false;
-    bool srgb = false;
+    int srgbChannels = 0;  // leading 8-bit channels that hold sRGB-encoded colour (alpha never does)
     bool enabled = false;
     bool transparent = false;  // an alpha channel with a texel below 1
 
     float texel(const Level& l, int x, int y, int c) const {
         const size_t i = (size_t(y) * size_t(l.w) + size_t(x)) * size_t(channels) + size_t(c);
-        return is8bit ? float(l.u8[i]) * (1.f / 255.f) : l.f32[i];
+        if (!is8bit) return l.f32[i];
+        return c < srgbChannels ? kSrgbDecode[l.u8[i]] : float(l.u8[i]) * (1.f / 255.f);
     }
     // Bilinear; (s, t) in texture space, t pointing down the rows.
     void bilinear(const Level& l, float s, float t, TextureWrap ws, TextureWrap wt, float out[4]) const {
@@ -99,8 +110,11 @@ struct Texture {
     }
 };
 
-// Box-filtered half-size level (odd sizes repeat their last row/column).
-Level downsample(const Level& src, int channels, bool is8bit) {
+// Box-filtered half-size level (odd sizes repeat their last row/column),
+// averaged in linear values; sRGB channels are encoded again to their nearest code.
+Level downsample(const Texture& tex, const Level& src, const Srgb8& encode) {
+    const int channels = tex.channels;
+    const bool is8bit = tex.is8bit;
     Level dst;
     dst.w = std::max(1, (src.w + 1) / 2);
     dst.h = std::max(1, (src.h + 1) / 2);
@@ -112,14 +126,17 @@ Level downsample(const Level& src, int channels, bool is8bit) {
             const int xs[2] = {std::min(2 * x, src.w - 1), std::min(2 * x + 1, src.w - 1)};
             const int ys[2] = {std::min(2 * y, src.h - 1), std::min(2 * y + 1, src.h - 1)};
             for (int c = 0; c < channels; ++c) {
+                // Linear 8-bit channels average their codes exactly.
+                const bool codes = is8bit && c >= tex.srgbChannels;
                 double sum = 0.0;
                 for (int yy : ys)
                     for (int xx : xs) {
                         const size_t i = (size_t(yy) * size_t(src.w) + size_t(xx)) * size_t(channels) + size_t(c);
-                        sum += is8bit ? double(src.u8[i]) : double(src.f32[i]);
+                        sum += codes ? double(src.u8[i]) : double(tex.texel(src, xx, yy, c));
                     }
                 const size_t o = (size_t(y) * size_t(dst.w) + size_t(x)) * size_t(channels) + size_t(c);
-                if (is8bit) dst.u8[o] = uint8_t(std::lround(sum / 4.0));
+                if (codes) dst.u8[o] = uint8_t(std::lround(sum / 4.0));
+                else if (is8bit) dst.u8[o] = encode(float(sum / 4.0));
                 else dst.f32[o] = float(sum / 4.0);
             }
         }
@@ -218,7 +235,8 @@ bool anyTransparent(const Level& l, int channels, bool is8bit) {
 }
 
 // Decodes `p` completely and MIP-maps it; false with p.why.
-bool decodePixels(const oiio::Api& api, const std::string& name, TextureColorSpace space, Pending& p, Texture& tex) {
+bool decodePixels(const oiio::Api& api, const std::string& name, TextureColorSpace space, const Srgb8& encode,
+                  Pending& p, Texture& tex) {
     oiio::DecodeRequest rq = requestFor(p, name);
     rq.maxBytes = p.need;  // the file may have changed since its header was read
     oiio::Decoded d;
@@ -227,22 +245,28 @@ bool decodePixels(const oiio::Api& api, const std::string& name, TextureColorSpa
     if (status != oiio::Status::Ok) return false;
     tex.is8bit = d.type == oiio::PixelType::U8;
     tex.channels = std::clamp(d.decodedChannels, 1, kMaxChannels);
-    tex.srgb = isSrgb(space, d);
+    const bool srgb = isSrgb(space, d);
+    const int colourChannels = tex.channels >= 3 ? 3 : 1;
     Level base;
     base.w = d.width;
     base.h = d.height;
     if (tex.is8bit) {
         base.u8 = std::move(d.pixels);
+        tex.srgbChannels = srgb ? colourChannels : 0;
     } else {
         const size_t n = size_t(d.width) * size_t(d.height) * size_t(tex.channels);
         base.f32.resize(n);
         std::memcpy(base.f32.data(), d.pixels.data(), n * sizeof(float));
+        if (srgb)  // float texels are decoded once, here
+            for (size_t i = 0; i < n; ++i)
+                if (int(i % size_t(tex.channels)) < colourChannels)
+                    base.f32[i] = srgbToLinear(std::clamp(base.f32[i], 0.f, 1.f));
     }
     d.pixels = {};
     tex.transparent = anyTransparent(base, tex.channels, tex.is8bit);
     tex.levels.push_back(std::move(base));
     while (tex.levels.back().w > 1 || tex.levels.back().h > 1)
-        tex.levels.push_back(downsample(tex.levels.back(), tex.channels, tex.is8bit));
+        tex.levels.push_back(downsample(tex, tex.levels.back(), encode));
     return true;
 }
 
@@ -306,18 +330,20 @@ TextureCache::TextureCache(const std::vector<TextureSource>& sources, const Logg
         }
         total += p.need;
     }
-    if (api)
+    if (api) {
+        const Srgb8 encode;
         parallelFor(n, 0, [&](size_t i) {
             Pending& p = pending[i];
             if (!p.ok) return;
             try {
-                p.ok = decodePixels(*api, sources[i].name, sources[i].colorSpace, p, impl_->textures[i]);
+                p.ok = decodePixels(*api, sources[i].name, sources[i].colorSpace, encode, p, impl_->textures[i]);
             } catch (const std::bad_alloc&) {
                 p.ok = false;
                 p.why = "out of memory while decoding it";
             }
             if (!p.ok) impl_->textures[i] = Texture{};
         });
+    }
     for (size_t i = 0; i < n; ++i) {
         Pending& p = pending[i];
         if (p.owned) ::close(p.fd);
@@ -353,8 +379,6 @@ Rgb TextureCache::lookup(int texture, Vec2f uv, float footprint) const {
     float c[4] = {1.f, 1.f, 1.f, 1.f};
     tex->filtered(uv.x, 1.f - uv.y, footprint, TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Linear, c);
     if (tex->channels < 3) c[1] = c[2] = c[0];
-    if (tex->srgb)
-        for (int k = 0; k < 3; ++k) c[k] = srgbToLinear(std::clamp(c[k], 0.f, 1.f));
     return {c[0], c[1], c[2]};
 }
 
@@ -373,11 +397,6 @@ Rgba TextureCache::sample(const TextureRef& slot, Vec2f uv, float footprint) con
         case 2: out = {Rgb(c[0]), c[1]}; break;
         case 3: out = {Rgb(c[0], c[1], c[2]), 1.f}; break;
         default: out = {Rgb(c[0], c[1], c[2]), c[3]}; break;
-    }
-    if (tex->srgb) {
-        out.rgb.r = srgbToLinear(std::clamp(out.rgb.r, 0.f, 1.f));
-        out.rgb.g = srgbToLinear(std::clamp(out.rgb.g, 0.f, 1.f));
-        out.rgb.b = srgbToLinear(std::clamp(out.rgb.b, 0.f, 1.f));
     }
     return out;
 }

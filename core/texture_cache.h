@@ -47,7 +47,8 @@ public:
     /// Linear RGB of texture `texture` at `uv`, trilinearly filtered over a
     /// square footprint `footprint` wide in uv units (0: the finest level).
     /// OBJ convention: v points up the image; the texture repeats outside
-    /// [0,1]. sRGB-encoded images are linearised after filtering; grey
+    /// [0,1]. sRGB-encoded texels are linearised before they are filtered
+    /// or averaged into MIP levels (8-bit ones keep their codes); grey
     /// images give grey. Rgb(1) for a negative or disabled texture or a
     /// non-finite uv. Thread-safe.
     Rgb lookup(int texture, Vec2f uv, float footprint) const;

@@ -2,10 +2,11 @@
 # The anchor rows of issue 14, taken side by side on this machine:
 #   * textbook scenes (../shared/bench/textbook_*.json): Penumbra's render time
 #     per camera sample per thread, 1 and 2 threads (from --stats-json);
-#   * POV-Ray 3.7 against Penumbra on room.pov / room.json, whole processes,
+#   * POV-Ray 3.7 against Penumbra on the room and Figure 24.6, whole processes,
 #     interleaved (POV, Penumbra, POV, Penumbra, ...), median of the pair-wise
 #     ratios of wall time and of CPU time (user + sys);
-#   * `penumbra --help` wall time and the peak memory of a 32-triangle render.
+#   * `penumbra --help` wall time and the peak memory of a 32-triangle render
+#     written to PFM (a process that loads no image library).
 # Writes JSON (every run's raw figures) to $OUT (default bench_anchors.json)
 # and a human-readable log to stdout. Installs Debian's povray when missing
 # (as root); without it the POV-Ray rows are skipped and say so.
@@ -79,7 +80,7 @@ for i in $(seq 1 10); do fresh_libs; timed help penumbra -- "$penumbra" --help; 
 for i in $(seq 1 3); do
   fresh_libs
   timed cornell32 penumbra -- "$penumbra" "$here/assets/cornell/cornell.obj" --width 64 --height 64 --spp 1 \
-    -o "$tmp/c.png" -q --stats-json "$tmp/stats.json"
+    -o "$tmp/c.pfm" -q --stats-json "$tmp/stats.json"
 done
 
 echo "textbook scenes (render time per camera sample from --stats-json)" >&2
@@ -93,25 +94,36 @@ for scene in textbook_fig18_04 textbook_fig24_06; do
   done
 done
 
-# POV-Ray against Penumbra: each config is (name, POV-Ray switches, Penumbra options).
-declare -a cfg_name cfg_pov cfg_pen
-cfg_name+=(noaa_n8); cfg_pov+=("-A Declare=N=8 Declare=ADAPT=-1"); cfg_pen+=("--spp 1 --light-samples 64")
-cfg_name+=(noaa_n4); cfg_pov+=("-A Declare=N=4 Declare=ADAPT=-1"); cfg_pen+=("--spp 1 --light-samples 16")
-cfg_name+=(aa3_n4); cfg_pov+=("+A0.0 +AM1 +R3 Declare=N=4 Declare=ADAPT=-1"); cfg_pen+=("--spp 16 --light-samples 16")
+# POV-Ray against Penumbra: each config is (name, scene, POV-Ray switches, Penumbra options); a scene
+# is its POV-Ray file, its Penumbra file and its size.
+declare -A scene_pov scene_json scene_size
+scene_pov[room]="$bench_dir/room.pov"; scene_json[room]="$bench_dir/room.json"; scene_size[room]="512 512"
+scene_pov[fig24_06]="$here/assets/scenes/bench/textbook_fig24_06.pov"
+scene_json[fig24_06]="$bench_dir/textbook_fig24_06.json"; scene_size[fig24_06]="600 400"
+declare -a cfg_name cfg_scene cfg_pov cfg_pen
+cfg_name+=(noaa_n8); cfg_scene+=(room); cfg_pov+=("-A Declare=N=8 Declare=ADAPT=-1"); cfg_pen+=("--spp 1 --light-samples 64")
+cfg_name+=(noaa_n4); cfg_scene+=(room); cfg_pov+=("-A Declare=N=4 Declare=ADAPT=-1"); cfg_pen+=("--spp 1 --light-samples 16")
+cfg_name+=(aa3_n4); cfg_scene+=(room); cfg_pov+=("+A0.0 +AM1 +R3 Declare=N=4 Declare=ADAPT=-1"); cfg_pen+=("--spp 16 --light-samples 16")
 # (POV-Ray AA 3x3 with 8x8 against --spp 9 --light-samples 64 is left out: it alone would take minutes.)
+# Figure 24.6: mirrors to depth 10 and one point light. +AM1 +R4 traces a jittered 4x4 grid in every
+# pixel (16 rays, plus the pixel corners), as the scene's 16 samples per pixel.
+cfg_name+=(fig24_aa4); cfg_scene+=(fig24_06); cfg_pov+=("+A0.0 +AM1 +R4 +J"); cfg_pen+=("")
+cfg_name+=(fig24_noaa); cfg_scene+=(fig24_06); cfg_pov+=("-A"); cfg_pen+=("--spp 1")
 pov_version=null
 if command -v povray > /dev/null; then
   pov_version="\"$(povray --version 2>&1 | grep -m1 '^POV-Ray' | tr -d '"')\""
-  echo "POV-Ray / Penumbra on room, 2 threads each, $pairs interleaved pairs" >&2
+  echo "POV-Ray / Penumbra on room and Figure 24.6, 2 threads each, $pairs interleaved pairs" >&2
   for c in "${!cfg_name[@]}"; do
+    s=${cfg_scene[$c]}
+    read -r w h <<< "${scene_size[$s]}"
     for i in $(seq 1 "$pairs"); do
       # shellcheck disable=SC2086
-      (cd "$bench_dir" && timed "${cfg_name[$c]}" povray -- povray -D -GR +Iroom.pov +O"$tmp/room.png" +W512 +H512 \
-        +WT2 ${cfg_pov[$c]})
+      (cd "$(dirname "${scene_pov[$s]}")" && timed "${cfg_name[$c]}" povray -- povray -D -GR \
+        +I"$(basename "${scene_pov[$s]}")" +O"$tmp/$s.png" +W$w +H$h +WT2 ${cfg_pov[$c]})
       fresh_libs
       # shellcheck disable=SC2086
-      timed "${cfg_name[$c]}" penumbra -- "$penumbra" "$bench_dir/room.json" ${cfg_pen[$c]} --threads 2 \
-        -o "$tmp/room.png" -q --stats-json "$tmp/stats.json"
+      timed "${cfg_name[$c]}" penumbra -- "$penumbra" "${scene_json[$s]}" ${cfg_pen[$c]} --threads 2 \
+        -o "$tmp/$s.png" -q --stats-json "$tmp/stats.json"
     done
   done
 else
@@ -126,7 +138,8 @@ cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
   printf '"povray":%s,"config":[' "$pov_version"
   for c in "${!cfg_name[@]}"; do
     [[ $c -gt 0 ]] && printf ','
-    printf '{"name":"%s","povray":"+WT2 %s","penumbra":"%s --threads 2"}' "${cfg_name[$c]}" "${cfg_pov[$c]}" "${cfg_pen[$c]}"
+    printf '{"name":"%s","scene":"%s","povray":"+WT2 %s","penumbra":"%s--threads 2"}' "${cfg_name[$c]}" "${cfg_scene[$c]}" \
+      "${cfg_pov[$c]}" "${cfg_pen[$c]:+${cfg_pen[$c]} }"
   done
   printf '],"runs":['
   paste -sd, "$runs"

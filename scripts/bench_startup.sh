@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Start-up cost of the penumbra command (issue 14, OpenImageIO row): wall time
-# of `penumbra --help`, and peak RSS (/usr/bin/time -v) of a 32-triangle render
-# (assets/cornell, 64x64, 4 spp) written to .pfm and to .exr. Runs the
-# candidates interleaved, N rounds, and prints medians.
+# Start-up cost of the penumbra command: wall time of `penumbra --help`, and
+# peak RSS (/usr/bin/time) of a 32-triangle render (assets/cornell, 64x64,
+# 4 spp) written to .pfm (no image library loaded) and to .exr (OpenImageIO
+# loaded in the process on its first image). Runs the candidates interleaved,
+# N rounds, and prints medians.
 # Usage: scripts/bench_startup.sh [N] NAME=PENUMBRA_BINARY[:LD_LIBRARY_PATH] ...
 set -euo pipefail
 rounds=${1:-15}; shift

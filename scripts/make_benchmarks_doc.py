@@ -45,11 +45,6 @@ def anchor_figures(anchors):
     fig["help_wall"] = median(help_walls)
     fig["help_rss_mib"] = median([r["max_rss_kib"] / 1024 for r in runs if r["name"] == "help"])
     fig["cornell_rss_mib"] = median([r["max_rss_kib"] / 1024 for r in runs if r["name"] == "cornell32"])
-    # The rendering process alone (its own getrusage), where the run recorded it; the figure above is
-    # /usr/bin/time's, the largest process of the tree (the image encoder helper, which holds OpenImageIO).
-    own = [r["stats"]["peak_memory_mib"] for r in runs
-           if r["name"] == "cornell32" and r.get("stats") and "peak_memory_mib" in r["stats"]]
-    fig["cornell_own_rss_mib"] = median(own) if own else None
     # ns per camera sample per thread, from the render time of --stats-json.
     fig["textbook"] = {}
     for scene in ("textbook_fig18_04", "textbook_fig24_06"):
@@ -172,14 +167,11 @@ def main():
                f"{met(sc_worst, targets['render_scaling_min'], False)} |\n")
     out.append(f"| 2-thread / 1-thread render time, `textbook_fig18_04.json` (whole image) | {fmt(tb['speedup'])} | "
                f"≥ 1.9 | {met(tb['speedup'], 1.9, False)} |\n")
-    out.append(f"| `penumbra --help` wall time (median of 10); peak memory of a 32-triangle render | "
+    out.append(f"| `penumbra --help` wall time (median of 10); peak memory of a 32-triangle render to PFM | "
                f"{fmt(fig['help_wall'], 3)} s; {fmt(fig['cornell_rss_mib'], 0)} MiB | ≤ 0.03 s; ≤ 40 MiB | "
-               f"{met(fig['help_wall'], 0.03, True)}; {met(fig['cornell_rss_mib'], 40, True)} (the render writes a "
-               "PNG, which loads OpenImageIO through its module"
-               + (f": in the helper process that encodes the image, the largest of the tree; the rendering "
-                  f"process itself peaks at {fmt(fig['cornell_own_rss_mib'], 0)} MiB"
-                  if fig.get("cornell_own_rss_mib") is not None else "")
-               + "; `scripts/bench_startup.sh` also measures a PFM render, which loads neither) |\n")
+               f"{met(fig['help_wall'], 0.03, True)}; {met(fig['cornell_rss_mib'], 40, True)} (a PFM loads no image "
+               "library; writing any other format loads OpenImageIO, about 125 MiB more: "
+               "`scripts/bench_startup.sh` measures both) |\n")
 
     out.append("\n### Anchor scenes\n\n")
     out.append("| scene | threads | ns per camera sample per thread (render wall) | ns per camera sample "
@@ -190,13 +182,16 @@ def main():
             out.append(f"| `{scene}.json` | {t} | {fmt(p['ns'], 0)} | {fmt(p['cpu_ns'], 0)} | {fmt(p['render'])} | "
                        f"{fmt(p['wall'])} |\n")
     if pov:
-        out.append(f"\nPOV-Ray ({anchors['povray']}) against Penumbra on `room.pov` / `room.json`, 512×512, 2 threads "
-                   "each, whole processes, interleaved pairs (medians):\n\n")
-        out.append("| POV-Ray switches | Penumbra options | POV wall s | Penumbra wall s | ratio (wall) | "
-                   "POV CPU s | Penumbra CPU s | ratio (CPU) |\n| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n")
+        out.append(f"\nPOV-Ray ({anchors['povray']}) against Penumbra on `room.pov` / `room.json` (512×512) and on "
+                   "Figure 24.6 (`assets/scenes/bench/textbook_fig24_06.pov` / `textbook_fig24_06.json`, 600×400), "
+                   "2 threads each, whole processes, interleaved pairs (medians):\n\n")
+        out.append("| scene | POV-Ray switches | Penumbra options | POV wall s | Penumbra wall s | ratio (wall) | "
+                   "POV CPU s | Penumbra CPU s | ratio (CPU) |\n"
+                   "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n")
         for p in pov.values():
             c = p["config"]
-            out.append(f"| `{c['povray']}` | `{c['penumbra']}` | {fmt(p['pov_wall'])} | {fmt(p['pen_wall'])} | "
+            out.append(f"| {c.get('scene', 'room')} | `{c['povray']}` | `{c['penumbra']}` | {fmt(p['pov_wall'])} | "
+                       f"{fmt(p['pen_wall'])} | "
                        f"{fmt(p['wall_ratio'])} | {fmt(p['pov_cpu'])} | {fmt(p['pen_cpu'])} | {fmt(p['cpu_ratio'])} |\n")
 
     out.append("\n### penumbra-bench ratios per scene\n\n")

@@ -1,5 +1,6 @@
 #include "shading/renderer.h"
 
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -67,10 +68,7 @@ PreparedScene::PreparedScene(Scene scene, const PrepareOptions& options, const L
 
 PreparedScene::~PreparedScene() = default;
 
-Film makeFilm(const RenderSettings& s) {
-    CropWindow w = s.crop ? *s.crop : CropWindow{0, 0, s.width, s.height};
-    return Film(s.width, s.height, w, s.aovs);
-}
+Film makeFilm(const RenderSettings& s) { return Film(s.width, s.height, pnb::renderWindow(s), s.aovs); }
 
 namespace {
 
@@ -92,19 +90,6 @@ struct PassContext {
 struct PixelRect {
     int x0, y0, x1, y1;
 };
-
-// Checks a pass's arguments against its film; throws Error(InvalidArgument).
-void checkPass(const RenderSettings& settings, const Film& film, uint32_t firstSample, uint32_t sampleCount) {
-    validateSettings(settings);
-    const CropWindow window = settings.crop ? *settings.crop : CropWindow{0, 0, settings.width, settings.height};
-    if (film.fullWidth() != settings.width || film.fullHeight() != settings.height || !(film.window() == window))
-        throw Error(ErrorCode::InvalidArgument, "film does not match the render settings (size or crop window)");
-    if (uint64_t(firstSample) + sampleCount > uint64_t(settings.spp))
-        throw Error(ErrorCode::InvalidArgument, "sample range exceeds spp");
-    if (film.sampleCount() != firstSample)
-        throw Error(ErrorCode::InvalidArgument, "film holds " + std::to_string(film.sampleCount()) +
-                                                    " samples per pixel; the pass must start there");
-}
 
 // The pixel (and lens) sample sets of a tile's blocks: every set has spp
 // samples on one grid; drawn as lanes (MultiJitterLanes), whose lanes each
@@ -241,7 +226,9 @@ bool renderTile(const PassContext& c, const PixelRect& tile, RayCounts& counts) 
 PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDesc, const RenderSettings& settings,
                        Film& film, uint32_t firstSample, uint32_t sampleCount, const RenderControl& control,
                        const InternalSettings& internal) {
-    checkPass(settings, film, firstSample, sampleCount);
+    // The API checked the arguments (api/render.cpp, checkRender and checkPass).
+    assert(film.window() == pnb::renderWindow(settings) && film.sampleCount() == firstSample &&
+           uint64_t(firstSample) + sampleCount <= uint64_t(settings.spp));
     const Camera camera(cameraDesc, settings.width, settings.height);
     const float pixelSpread = 2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height);
     const std::unique_ptr<Integrator> integrator = makeIntegrator(
@@ -292,7 +279,7 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     stats.pathLengthSum = total.pathLengthSum;
     stats.pathLengthMax = total.pathLengthMax;
     stats.invalidRays = prepared.accelerator().invalidRayCount() - invalidBefore;
-    stats.threads = settings.threads > 0 ? settings.threads : hardwareThreads();
+    stats.threads = threadsFor(settings.threads);
     result.cancelled = stopped.load();
     stats.mraysPerSecond = stats.renderSeconds > 0 ? double(total.total()) / stats.renderSeconds * 1e-6 : 0.0;
     if (!result.cancelled) film.setSampleCount(firstSample + sampleCount);

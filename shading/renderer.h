@@ -23,7 +23,7 @@ namespace penumbra {
 class TextureCache;
 
 struct PrepareOptions {
-    std::string accelerator = "embree";  // "embree" or "naive"
+    AcceleratorKind accelerator = AcceleratorKind::Embree;
     BuildQuality quality = BuildQuality::High;
 };
 

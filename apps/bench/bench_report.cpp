@@ -164,15 +164,10 @@ RunInfo describeMachine(int threads) {
     return info;
 }
 
-void printReport(std::FILE* out, const std::vector<SceneResult>& results, const BenchOptions& o, const RunInfo& info) {
-    const int T = info.threads;
-    std::fprintf(out, "penumbra-bench: %s, %d hardware threads; multi-threaded runs use %d\n", info.cpu.c_str(),
-                 info.hardwareThreads, T);
-    std::fprintf(out,
-                 "  %zu camera rays per scene, best of %d runs after a warm-up; naive: at most %zu rays per kind, "
-                 "one run each\n\n",
-                 o.rays, o.repetitions, o.naiveMaxRays);
+namespace {
 
+// The scenes and the sizes of their ray sets.
+void printScenes(std::FILE* out, const std::vector<SceneResult>& results) {
     std::fprintf(out, "Scenes and ray sets\n");
     std::fprintf(out, "  %-14s %-10s %9s %9s %6s  %8s %8s %8s  %s\n", "scene", "family", "triangles", "prims", "lights",
                  "camera", "shadow", "incoh.", "incoherent = mirror + random");
@@ -180,7 +175,10 @@ void printReport(std::FILE* out, const std::vector<SceneResult>& results, const 
         std::fprintf(out, "  %-14s %-10s %9zu %9zu %6zu  %8zu %8zu %8zu  %zu + %zu\n", r.name.c_str(),
                      familyName(r.family), r.triangles, r.primitives, r.lights, r.setRays[0], r.setRays[1],
                      r.setRays[2], r.mirrorRays, r.randomRays);
+}
 
+// Mrays/s of every accelerator, kind and thread count, and the build figures.
+void printRates(std::FILE* out, const std::vector<SceneResult>& results, int T) {
     std::fprintf(out, "\nRates in Mrays/s (1T = one thread, %dT = %d threads); build = BVH build, frame = renderPass\n", T,
                  T);
     std::fprintf(out, "  %-14s %-20s %9s %7s  %7s %7s  %7s %7s  %7s %7s  %9s %9s\n", "scene", "accelerator", "build ms",
@@ -210,7 +208,10 @@ void printReport(std::FILE* out, const std::vector<SceneResult>& results, const 
                          rate(f.kinds[2].mraysAll()).c_str(), f1.c_str(), fN.c_str());
         }
     }
+}
 
+// The ratios against their targets.
+void printRatios(std::FILE* out, const std::vector<SceneResult>& results, int T) {
     std::fprintf(out, "\nRatios (renderer = Embree accelerator through the Accelerator interface)\n");
     std::fprintf(out, "  %-14s %9s %9s %9s %9s %9s %9s %9s %9s  %s\n", "scene", "cam/raw1", "cam/rawN", "shd/rawN",
                  "inc/rawN", "frame/q", "renderNT", "build", "memory", "embree/naive (camera, shadow, incoherent, 1T)");
@@ -231,50 +232,55 @@ void printReport(std::FILE* out, const std::vector<SceneResult>& results, const 
                  "renderNT = frame throughput %dT / 1T;\n  build = renderer BVH build (own device and shape bounds "
                  "included) / raw scene build (device excluded)\n",
                  T, T);
+}
 
+// Raw Embree's packets against its single-ray queries, where the run timed any.
+void printPackets(std::FILE* out, const std::vector<SceneResult>& results, int T) {
     bool anyPackets = false;
     for (const auto& r : results) anyPackets = anyPackets || !r.packets.empty();
-    if (anyPackets) {
-        std::fprintf(out, "\nRaw Embree packets (Mrays/s; in brackets: packet rate / rtcIntersect1 or rtcOccluded1 rate)\n");
-        std::fprintf(out, "  %-14s %-7s %7s %7s", "scene", "kind", "x1 1T", ("x1 " + std::to_string(T) + "T").c_str());
-        std::vector<int> widths;
-        for (const auto& r : results)
-            for (const auto& p : r.packets)
-                if (std::find(widths.begin(), widths.end(), p.width) == widths.end()) widths.push_back(p.width);
-        for (int w : widths)
-            std::fprintf(out, " %15s %15s", ("x" + std::to_string(w) + " 1T").c_str(),
-                         ("x" + std::to_string(w) + " " + std::to_string(T) + "T").c_str());
-        std::fprintf(out, "\n");
-        for (const auto& r : results) {
-            for (RayKind k : {RayKind::Camera, RayKind::Shadow}) {
-                bool any = false;
-                for (const auto& p : r.packets) any = any || p.kind == k;
-                if (!any) continue;
-                const RateFigures& single = r.raw.kinds[size_t(k)];
-                std::fprintf(out, "  %-14s %-7s %7s %7s", r.name.c_str(), rayKindName(k), rate(single.mrays1()).c_str(),
-                             rate(single.mraysAll()).c_str());
-                for (int w : widths) {
-                    std::string c1 = "-", cN = "-";
-                    for (const auto& p : r.packets) {
-                        if (p.kind != k || p.width != w) continue;
-                        c1 = rate(p.rate.mrays1()) + " (" + opt(ratio1(p.rate.mrays1(), single.mrays1())) + ")";
-                        cN = rate(p.rate.mraysAll()) + " (" + opt(ratio1(p.rate.mraysAll(), single.mraysAll())) + ")";
-                    }
-                    std::fprintf(out, " %15s %15s", c1.c_str(), cN.c_str());
+    if (!anyPackets) return;
+    std::fprintf(out, "\nRaw Embree packets (Mrays/s; in brackets: packet rate / rtcIntersect1 or rtcOccluded1 rate)\n");
+    std::fprintf(out, "  %-14s %-7s %7s %7s", "scene", "kind", "x1 1T", ("x1 " + std::to_string(T) + "T").c_str());
+    std::vector<int> widths;
+    for (const auto& r : results)
+        for (const auto& p : r.packets)
+            if (std::find(widths.begin(), widths.end(), p.width) == widths.end()) widths.push_back(p.width);
+    for (int w : widths)
+        std::fprintf(out, " %15s %15s", ("x" + std::to_string(w) + " 1T").c_str(),
+                     ("x" + std::to_string(w) + " " + std::to_string(T) + "T").c_str());
+    std::fprintf(out, "\n");
+    for (const auto& r : results) {
+        for (RayKind k : {RayKind::Camera, RayKind::Shadow}) {
+            bool any = false;
+            for (const auto& p : r.packets) any = any || p.kind == k;
+            if (!any) continue;
+            const RateFigures& single = r.raw.kinds[size_t(k)];
+            std::fprintf(out, "  %-14s %-7s %7s %7s", r.name.c_str(), rayKindName(k), rate(single.mrays1()).c_str(),
+                         rate(single.mraysAll()).c_str());
+            for (int w : widths) {
+                std::string c1 = "-", cN = "-";
+                for (const auto& p : r.packets) {
+                    if (p.kind != k || p.width != w) continue;
+                    c1 = rate(p.rate.mrays1()) + " (" + opt(ratio1(p.rate.mrays1(), single.mrays1())) + ")";
+                    cN = rate(p.rate.mraysAll()) + " (" + opt(ratio1(p.rate.mraysAll(), single.mraysAll())) + ")";
                 }
-                std::fprintf(out, "\n");
+                std::fprintf(out, " %15s %15s", c1.c_str(), cN.c_str());
             }
+            std::fprintf(out, "\n");
         }
-        bool native16 = false, native8 = false;
-        for (const auto& r : results)
-            for (const auto& p : r.packets) {
-                if (p.width == 16) native16 = native16 || p.native;
-                if (p.width == 8) native8 = native8 || p.native;
-            }
-        std::fprintf(out, "  this Embree build traces 8-wide packets %s and 16-wide packets %s\n",
-                     native8 ? "natively" : "by emulation", native16 ? "natively" : "by emulation");
     }
+    bool native16 = false, native8 = false;
+    for (const auto& r : results)
+        for (const auto& p : r.packets) {
+            if (p.width == 16) native16 = native16 || p.native;
+            if (p.width == 8) native8 = native8 || p.native;
+        }
+    std::fprintf(out, "  this Embree build traces 8-wide packets %s and 16-wide packets %s\n",
+                 native8 ? "natively" : "by emulation", native16 ? "natively" : "by emulation");
+}
 
+// The accelerators' agreement, with examples of what differed.
+void printAgreement(std::FILE* out, const std::vector<SceneResult>& results) {
     const AgreementSummary s = summarizeAgreement(results);
     std::fprintf(out, "\nAgreement (same PrimRef and t within %.0e relative; same occlusion answer; limit %.2f%% of rays)\n",
                  double(kRelativeTolerance), kMaxDisagreement * 100.0);
@@ -296,6 +302,111 @@ void printReport(std::FILE* out, const std::vector<SceneResult>& results, const 
         }
     std::fprintf(out, "agreement: %s\n", s.passed() ? "passed" : "FAILED");
 }
+
+}  // namespace
+
+void printReport(std::FILE* out, const std::vector<SceneResult>& results, const BenchOptions& o, const RunInfo& info) {
+    const int T = info.threads;
+    std::fprintf(out, "penumbra-bench: %s, %d hardware threads; multi-threaded runs use %d\n", info.cpu.c_str(),
+                 info.hardwareThreads, T);
+    std::fprintf(out,
+                 "  %zu camera rays per scene, best of %d runs after a warm-up; naive: at most %zu rays per kind, "
+                 "one run each\n\n",
+                 o.rays, o.repetitions, o.naiveMaxRays);
+    printScenes(out, results);
+    printRates(out, results, T);
+    printRatios(out, results, T);
+    printPackets(out, results, T);
+    printAgreement(out, results);
+}
+
+namespace {
+
+// Every accelerator's figures for one scene.
+json acceleratorsJson(const SceneResult& r) {
+    json accels;
+    accels["embree"] = accelJson(r, r.embree, false);
+    accels["naive"] = accelJson(r, r.naive, true);
+    json raw = accelJson(r, r.raw, false);
+    if (r.raw.present) {
+        raw["device_seconds"] = r.raw.deviceSeconds;
+        json packets;
+        for (const auto& p : r.packets) {
+            json pj = rateJson(p.rate);
+            pj["native"] = p.native;
+            pj["speedup_1t"] = optJson(ratio1(p.rate.mrays1(), r.raw.kinds[size_t(p.kind)].mrays1()));
+            pj["speedup_nt"] = optJson(ratio1(p.rate.mraysAll(), r.raw.kinds[size_t(p.kind)].mraysAll()));
+            packets[rayKindName(p.kind)][std::to_string(p.width)] = pj;
+        }
+        raw["packets"] = packets;
+    } else {
+        raw = {{"note", r.raw.note}};
+    }
+    json thin;
+    for (RayKind k : kRayKinds) thin[rayKindName(k)] = rateJson(r.embreeThin.kinds[size_t(k)]);
+    accels["embree_intersect_prim"] = {
+        {"note", "the renderer's accelerator answering single rays with nothing else: intersectPrim (no hit "
+                 "completion) for closest-hit kinds, occluded() for shadow rays"},
+        {"rays", thin}};
+    accels["raw_embree"] = raw;
+    if (r.rawFast.present) {
+        json fast = accelJson(r, r.rawFast, false);
+        fast["note"] = "raw Embree without RTC_SCENE_FLAG_ROBUST; disagreements reported, not checked";
+        json agreeFast;
+        for (size_t k = 0; k < kRayKindCount; ++k)
+            agreeFast[rayKindName(kRayKinds[k])] = disagreementJson(r.rawFastVsEmbree[k]);
+        fast["agreement_with_embree"] = agreeFast;
+        accels["raw_embree_not_robust"] = fast;
+    } else {
+        accels["raw_embree_not_robust"] = nullptr;
+    }
+    return accels;
+}
+
+// The ratios for one scene.
+json ratiosJson(const SceneResult& r) {
+    const SceneRatios q = ratiosOf(r);
+    json ratios = {{"camera_renderer_over_raw_1t", optJson(q.cameraOverRaw1)},
+                   {"camera_renderer_over_raw_nt", optJson(q.cameraOverRawAll)},
+                   {"frame_over_query_nt", optJson(q.frameOverQuery)},
+                   {"render_scaling_nt_over_1t", optJson(q.renderScaling)},
+                   {"build_renderer_over_raw", optJson(q.buildOverRaw)},
+                   {"build_renderer_over_raw_with_device", optJson(q.buildOverRawWithDevice)},
+                   {"memory_renderer_over_raw", optJson(q.memoryOverRaw)}};
+    for (size_t k = 0; k < kRayKindCount; ++k) {
+        ratios["renderer_over_raw_nt"][rayKindName(kRayKinds[k])] = optJson(q.kindOverRawAll[k]);
+        ratios["embree_over_naive_1t"][rayKindName(kRayKinds[k])] = optJson(q.embreeOverNaive[k]);
+        ratios["raw_not_robust_over_raw_nt"][rayKindName(kRayKinds[k])] = optJson(q.notRobustOverRaw[k]);
+    }
+    return ratios;
+}
+
+json sceneJson(const SceneResult& r) {
+    json s;
+    s["name"] = r.name;
+    s["family"] = familyName(r.family);
+    s["triangles"] = r.triangles;
+    s["primitives"] = r.primitives;
+    s["lights"] = r.lights;
+    s["triangle_only"] = r.triangleOnly;
+    s["prepare_seconds"] = r.prepareSeconds;
+    s["ray_sets"] = {{"camera", r.setRays[0]},     {"shadow", r.setRays[1]},   {"incoherent", r.setRays[2]},
+                     {"image_side", r.imageSide},  {"camera_hits", r.cameraHits},
+                     {"mirror", r.mirrorRays},     {"random", r.randomRays}};
+    s["accelerators"] = acceleratorsJson(r);
+
+    json agree;
+    for (size_t k = 0; k < kRayKindCount; ++k) {
+        agree["naive_vs_embree"][rayKindName(kRayKinds[k])] = disagreementJson(r.naiveVsEmbree[k]);
+        agree["raw_vs_embree"][rayKindName(kRayKinds[k])] = disagreementJson(r.rawVsEmbree[k]);
+    }
+    s["agreement"] = agree;
+
+    s["ratios"] = ratiosJson(r);
+    return s;
+}
+
+}  // namespace
 
 json toJson(const std::vector<SceneResult>& results, const BenchOptions& o, const RunInfo& info) {
     json j;
@@ -319,79 +430,7 @@ json toJson(const std::vector<SceneResult>& results, const BenchOptions& o, cons
                        {"light_samples", o.frameLightSamples},
                        {"max_depth", o.frameMaxDepth}}}};
     json scenes = json::array();
-    for (const auto& r : results) {
-        json s;
-        s["name"] = r.name;
-        s["family"] = familyName(r.family);
-        s["triangles"] = r.triangles;
-        s["primitives"] = r.primitives;
-        s["lights"] = r.lights;
-        s["triangle_only"] = r.triangleOnly;
-        s["prepare_seconds"] = r.prepareSeconds;
-        s["ray_sets"] = {{"camera", r.setRays[0]},     {"shadow", r.setRays[1]},   {"incoherent", r.setRays[2]},
-                         {"image_side", r.imageSide},  {"camera_hits", r.cameraHits},
-                         {"mirror", r.mirrorRays},     {"random", r.randomRays}};
-        json accels;
-        accels["embree"] = accelJson(r, r.embree, false);
-        accels["naive"] = accelJson(r, r.naive, true);
-        json raw = accelJson(r, r.raw, false);
-        if (r.raw.present) {
-            raw["device_seconds"] = r.raw.deviceSeconds;
-            json packets;
-            for (const auto& p : r.packets) {
-                json pj = rateJson(p.rate);
-                pj["native"] = p.native;
-                pj["speedup_1t"] = optJson(ratio1(p.rate.mrays1(), r.raw.kinds[size_t(p.kind)].mrays1()));
-                pj["speedup_nt"] = optJson(ratio1(p.rate.mraysAll(), r.raw.kinds[size_t(p.kind)].mraysAll()));
-                packets[rayKindName(p.kind)][std::to_string(p.width)] = pj;
-            }
-            raw["packets"] = packets;
-        } else {
-            raw = {{"note", r.raw.note}};
-        }
-        json thin;
-        for (RayKind k : kRayKinds) thin[rayKindName(k)] = rateJson(r.embreeThin.kinds[size_t(k)]);
-        accels["embree_intersect_prim"] = {
-            {"note", "the renderer's accelerator answering single rays with nothing else: intersectPrim (no hit "
-                     "completion) for closest-hit kinds, occluded() for shadow rays"},
-            {"rays", thin}};
-        accels["raw_embree"] = raw;
-        if (r.rawFast.present) {
-            json fast = accelJson(r, r.rawFast, false);
-            fast["note"] = "raw Embree without RTC_SCENE_FLAG_ROBUST; disagreements reported, not checked";
-            json agreeFast;
-            for (size_t k = 0; k < kRayKindCount; ++k)
-                agreeFast[rayKindName(kRayKinds[k])] = disagreementJson(r.rawFastVsEmbree[k]);
-            fast["agreement_with_embree"] = agreeFast;
-            accels["raw_embree_not_robust"] = fast;
-        } else {
-            accels["raw_embree_not_robust"] = nullptr;
-        }
-        s["accelerators"] = accels;
-
-        json agree;
-        for (size_t k = 0; k < kRayKindCount; ++k) {
-            agree["naive_vs_embree"][rayKindName(kRayKinds[k])] = disagreementJson(r.naiveVsEmbree[k]);
-            agree["raw_vs_embree"][rayKindName(kRayKinds[k])] = disagreementJson(r.rawVsEmbree[k]);
-        }
-        s["agreement"] = agree;
-
-        const SceneRatios q = ratiosOf(r);
-        json ratios = {{"camera_renderer_over_raw_1t", optJson(q.cameraOverRaw1)},
-                       {"camera_renderer_over_raw_nt", optJson(q.cameraOverRawAll)},
-                       {"frame_over_query_nt", optJson(q.frameOverQuery)},
-                       {"render_scaling_nt_over_1t", optJson(q.renderScaling)},
-                       {"build_renderer_over_raw", optJson(q.buildOverRaw)},
-                       {"build_renderer_over_raw_with_device", optJson(q.buildOverRawWithDevice)},
-                       {"memory_renderer_over_raw", optJson(q.memoryOverRaw)}};
-        for (size_t k = 0; k < kRayKindCount; ++k) {
-            ratios["renderer_over_raw_nt"][rayKindName(kRayKinds[k])] = optJson(q.kindOverRawAll[k]);
-            ratios["embree_over_naive_1t"][rayKindName(kRayKinds[k])] = optJson(q.embreeOverNaive[k]);
-            ratios["raw_not_robust_over_raw_nt"][rayKindName(kRayKinds[k])] = optJson(q.notRobustOverRaw[k]);
-        }
-        s["ratios"] = ratios;
-        scenes.push_back(s);
-    }
+    for (const auto& r : results) scenes.push_back(sceneJson(r));
     j["scenes"] = scenes;
     const AgreementSummary a = summarizeAgreement(results);
     j["agreement"] = {{"naive_vs_embree", disagreementJson(a.naiveVsEmbree)},

@@ -45,7 +45,7 @@ void sendStop(int rank) { MPI_Send(nullptr, 0, MPI_BYTE, rank, kTagStop, MPI_COM
 
 FrameResult runCoordinator(const Job& job, int size, const std::function<void(std::size_t, std::size_t)>& progress) {
     const pnb::RenderSettings& s = job.settings;
-    const pnb::CropWindow window = s.crop ? *s.crop : pnb::CropWindow{0, 0, s.width, s.height};
+    const pnb::CropWindow window = pnb::renderWindow(s);
     const std::vector<pnb::CropWindow> tiles = planTiles(window, size - 1);
     FrameResult result;
     result.image = pnb::Framebuffer(s);

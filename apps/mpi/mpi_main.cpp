@@ -13,18 +13,18 @@
 #include <chrono>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <penumbra/penumbra.hpp>
-#include <set>
 #include <string>
 #include <vector>
 
 #include "cli_options.h"
-#include "cli_settings.h"
-#include "outputs.h"
 #include "coordinator.h"
 #include "job.h"
 #include "option_checks.h"
+#include "outputs.h"
 #include "progress_reporter.h"
+#include "render_setup.h"
 #include "worker.h"
 
 namespace penumbra::mpi {
@@ -79,28 +79,16 @@ struct Setup {
 Setup setUp(const Options& o, pnb::Renderer& renderer, int rank, int size) {
     Setup setup;
     setup.report.host = processorName();
-    const bool renders = rank != 0 || size == 1;
     try {
         if (rank == 0) cli::precheckOptions(o);  // what needs no scene, before loading it
-        cli::SceneReads reads;
-        pnb::Scene scene = renderer.loadScene(o.scene.string(), cli::loadOptionsFor(o, reads));
-        setup.report.primitives = std::int64_t(scene.primitiveCount());
-        setup.report.triangles = std::int64_t(scene.triangleCount());
-        setup.report.materials = std::int64_t(scene.materialCount());
-        if (rank == 0) {
-            cli::checkSceneReads(o, reads, "penumbra-mpi");
-            Job job;
-            job.settings = cli::checkedSettings(o, scene);
-            job.camera = cli::checkedCamera(o, scene, job.settings);
-            setup.job = job;
-        }
-        cli::asUsage([&] { cli::applyLightOptions(o, scene); });
-        if (renders) {
+        cli::LoadedScene loaded = cli::loadForRender(o, renderer, "penumbra-mpi", rank == 0);
+        setup.report.primitives = std::int64_t(loaded.scene.primitiveCount());
+        setup.report.triangles = std::int64_t(loaded.scene.triangleCount());
+        setup.report.materials = std::int64_t(loaded.scene.materialCount());
+        if (rank == 0) setup.job = Job{loaded.settings, loaded.camera};
+        if (rank != 0 || size == 1) {
             if (rank == 1) renderer.setLog({}, pnb::LogLevel::Warning);  // scene repairs, said once
-            pnb::PrepareOptions prep;
-            prep.accelerator = o.accel;
-            prep.quality = cli::buildQualityOf(o);
-            setup.prepared = renderer.prepare(std::move(scene), prep);
+            setup.prepared = cli::prepareForRender(o, renderer, std::move(loaded.scene));
             setup.report.lights = std::int64_t(setup.prepared.lightCount());
             setup.report.buildSeconds = setup.prepared.buildSeconds();
             setup.report.accelerator = setup.prepared.accelerator();
@@ -140,8 +128,8 @@ Problem firstProblem(const std::vector<SetupReport>& reports, const Options& o) 
     return {};
 }
 
-void writeStatsJson(const Options& o, const pnb::RenderSettings& s, const SetupReport& scene, int ranks,
-                    const FrameResult& f, double totalSeconds) {
+std::string statisticsJson(const Options& o, const pnb::RenderSettings& s, const SetupReport& scene, int ranks,
+                           const FrameResult& f, double totalSeconds) {
     nlohmann::json j = cli::statisticsHeader(o, s, scene.accelerator);
     j["ranks"] = ranks;
     j["tiles"] = f.tileCount;
@@ -166,35 +154,46 @@ void writeStatsJson(const Options& o, const pnb::RenderSettings& s, const SetupR
                         {"max", t.pathLengthMax}};
     j["nonfinite_samples_dropped"] = t.nonFiniteSamples;
     j["peak_memory_mib_rank0"] = peakMemoryMiB();
-    cli::writeStatistics(o.statsJson, j.dump(2) + "\n");
+    return j.dump(2) + "\n";
 }
 
-int run(int argc, char** argv, int rank, int size) {
-    const auto t0 = std::chrono::steady_clock::now();
-    // Every rank reads the same command line; only rank 0 speaks about it.
-    cli::ParseResult parsed;
-    std::string parseError;
+void printSummary(const Options& o, const SetupReport& scene, int size, const FrameResult& frame, int spp,
+                  double total) {
+    const WorkerTotals& t = frame.totals;
+    const double rays = double(t.totalRays());
+    std::string perRank;
+    for (int r = (size == 1 ? 0 : 1); r < size; ++r)
+        perRank += (perRank.empty() ? "" : ", ") + std::to_string(frame.tilesPerRank[size_t(r)]);
+    std::fprintf(stderr,
+                 "penumbra-mpi: %lld primitives (%lld triangles), %lld lights, accelerator %s; build %.3f s\n"
+                 "penumbra-mpi: render %.3f s on %d rank(s): %zu tiles, per worker rank %s\n"
+                 "penumbra-mpi: rays: %llu camera, %llu shadow, %llu reflection (%.2f Mrays/s)\n",
+                 (long long)scene.primitives, (long long)scene.triangles, (long long)scene.lights,
+                 scene.accelerator.c_str(), scene.buildSeconds, frame.wallSeconds, size, frame.tileCount,
+                 perRank.c_str(), (unsigned long long)t.cameraRays, (unsigned long long)t.shadowRays,
+                 (unsigned long long)t.reflectionRays, frame.wallSeconds > 0 ? rays / frame.wallSeconds / 1e6 : 0.0);
+    if (t.nonFiniteSamples || t.invalidRays)
+        std::fprintf(stderr, "penumbra-mpi: dropped %llu non-finite samples, %llu invalid rays\n",
+                     (unsigned long long)t.nonFiniteSamples, (unsigned long long)t.invalidRays);
+    std::printf("penumbra-mpi: wrote %s (%dx%d, %d spp) in %.2f s\n", o.output.string().c_str(), frame.image.width(),
+                frame.image.height(), spp, total);
+}
+
+/// Every rank parses the same command line; only rank 0 speaks about it.
+cli::ParseResult parseOnEveryRank(int argc, char** argv, int rank) {
     try {
-        parsed = rank == 0 ? cli::parseCommandLine(argc, argv, "penumbra-mpi")
-                           : silenced([&] { return cli::parseCommandLine(argc, argv, "penumbra-mpi"); });
+        return rank == 0 ? cli::parseCommandLine(argc, argv, "penumbra-mpi")
+                         : silenced([&] { return cli::parseCommandLine(argc, argv, "penumbra-mpi"); });
     } catch (const std::exception& e) {
-        parseError = e.what();
+        if (rank == 0) std::fprintf(stderr, "penumbra-mpi: error: %s\n", e.what());
+        return {std::nullopt, 1};
     }
-    if (!parseError.empty()) {
-        if (rank == 0) std::fprintf(stderr, "penumbra-mpi: error: %s\n", parseError.c_str());
-        return 1;
-    }
-    if (!parsed.options) return parsed.exitCode;
-    const Options& o = *parsed.options;
+}
 
-    // Rank 0 and the renderers other than rank 1 keep quiet about the scene:
-    // rank 0 reports what matters once.
-    pnb::Renderer renderer;
-    if (rank >= 2) renderer.setLog([](pnb::LogLevel, std::string_view) {}, pnb::LogLevel::Error);
-    if (rank == 1) renderer.setLog([](pnb::LogLevel, std::string_view) {}, pnb::LogLevel::Error);
-    Setup setup = setUp(o, renderer, rank, size);
-
-    const std::vector<SetupReport> reports = gatherReports(setup.report, rank, size);
+/// Rank 0 (which has every rank's report): the job every rank renders, or the
+/// exit code of the first problem any rank had (printed here). Every rank
+/// returns the decision. Collective.
+Decision decide(const std::vector<SetupReport>& reports, const Setup& setup, const Options& o, int rank) {
     Decision decided;
     if (rank == 0) {
         const Problem problem = firstProblem(reports, o);
@@ -207,63 +206,56 @@ int run(int argc, char** argv, int rank, int size) {
             decided.exitCode = 1;
         }
     }
-    const Decision decision = broadcastDecision(decided, rank);
-    if (!decision.job) return decision.exitCode;
-    const std::optional<Job>& job = decision.job;
+    return broadcastDecision(decided, rank);
+}
 
+/// Rank 0 alone renders the frame itself.
+FrameResult renderAlone(const pnb::Renderer& renderer, const pnb::PreparedScene& prepared, const Job& job,
+                        cli::ProgressReporter& progress) {
+    FrameResult frame;
+    pnb::RenderControl control;
+    control.tileProgress = [&](size_t done, size_t total) { progress.update(done, total); };
+    frame.image = pnb::Framebuffer(job.settings);
+    const auto r0 = std::chrono::steady_clock::now();
+    const pnb::RenderStats st = renderer.render(prepared, job.camera, job.settings, frame.image, control);
+    frame.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+    frame.totals = totalsOf(st);
+    frame.tilesPerRank = {1};
+    frame.tileCount = 1;
+    return frame;
+}
+
+int run(int argc, char** argv, int rank, int size) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const cli::ParseResult parsed = parseOnEveryRank(argc, argv, rank);
+    if (!parsed.options) return parsed.exitCode;
+    const Options& o = *parsed.options;
+
+    // Rank 0 and the renderers other than rank 1 keep quiet about the scene:
+    // rank 0 reports what matters once.
+    pnb::Renderer renderer;
+    if (rank >= 1) renderer.setLog([](pnb::LogLevel, std::string_view) {}, pnb::LogLevel::Error);
+    Setup setup = setUp(o, renderer, rank, size);
+    const std::vector<SetupReport> reports = gatherReports(setup.report, rank, size);
+    const Decision decision = decide(reports, setup, o, rank);
+    if (!decision.job) return decision.exitCode;
+    const Job& job = *decision.job;
     if (rank != 0) {
-        runWorker(renderer, setup.prepared, *job, rank, setup.report.host);
+        runWorker(renderer, setup.prepared, job, rank, setup.report.host);
         return 0;
     }
 
-    const pnb::RenderSettings& settings = job->settings;
     cli::ProgressReporter progress(o.quiet);
-    FrameResult frame;
-    const SetupReport& sceneReport = size == 1 ? reports[0] : reports[1];
-    if (size == 1) {
-        // Alone, rank 0 renders the frame itself.
-        pnb::RenderControl control;
-        control.tileProgress = [&](size_t done, size_t total) { progress.update(done, total); };
-        frame.image = pnb::Framebuffer(settings);
-        const auto r0 = std::chrono::steady_clock::now();
-        const pnb::RenderStats st = renderer.render(setup.prepared, job->camera, settings, frame.image, control);
-        frame.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
-        frame.totals = totalsOf(st);
-        frame.tilesPerRank = {1};
-        frame.tileCount = 1;
-    } else {
-        frame = runCoordinator(*job, size, [&](size_t done, size_t total) { progress.update(done, total); });
-    }
+    const FrameResult frame =
+        size == 1 ? renderAlone(renderer, setup.prepared, job, progress)
+                  : runCoordinator(job, size, [&](size_t done, size_t total) { progress.update(done, total); });
     progress.finish();
-
-    pnb::ImageOptions wo;
-    wo.exposure = o.exposure;
-    wo.aovs = o.aovs;
-    frame.image.writeImage(o.output.string(), wo);
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!o.statsJson.empty()) writeStatsJson(o, settings, sceneReport, size, frame, total);
-
-    if (!o.quiet) {
-        const WorkerTotals& t = frame.totals;
-        const double rays = double(t.totalRays());
-        std::string perRank;
-        for (int r = (size == 1 ? 0 : 1); r < size; ++r)
-            perRank += (perRank.empty() ? "" : ", ") + std::to_string(frame.tilesPerRank[size_t(r)]);
-        std::fprintf(stderr,
-                     "penumbra-mpi: %lld primitives (%lld triangles), %lld lights, accelerator %s; build %.3f s\n"
-                     "penumbra-mpi: render %.3f s on %d rank(s): %zu tiles, per worker rank %s\n"
-                     "penumbra-mpi: rays: %llu camera, %llu shadow, %llu reflection (%.2f Mrays/s)\n",
-                     (long long)sceneReport.primitives, (long long)sceneReport.triangles, (long long)sceneReport.lights,
-                     sceneReport.accelerator.c_str(), sceneReport.buildSeconds, frame.wallSeconds, size,
-                     frame.tileCount, perRank.c_str(), (unsigned long long)t.cameraRays,
-                     (unsigned long long)t.shadowRays, (unsigned long long)t.reflectionRays,
-                     frame.wallSeconds > 0 ? rays / frame.wallSeconds / 1e6 : 0.0);
-        if (t.nonFiniteSamples || t.invalidRays)
-            std::fprintf(stderr, "penumbra-mpi: dropped %llu non-finite samples, %llu invalid rays\n",
-                         (unsigned long long)t.nonFiniteSamples, (unsigned long long)t.invalidRays);
-        std::printf("penumbra-mpi: wrote %s (%dx%d, %d spp) in %.2f s\n", o.output.string().c_str(),
-                    frame.image.width(), frame.image.height(), settings.spp, total);
-    }
+    auto secondsSinceStart = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    const double total = secondsSinceStart();
+    // Every rank read the same scene (firstProblem checked it); rank 1 prepared it when there are workers.
+    const SetupReport& scene = size == 1 ? reports[0] : reports[1];
+    cli::writeOutputs(o, frame.image, [&] { return statisticsJson(o, job.settings, scene, size, frame, total); });
+    if (!o.quiet) printSummary(o, scene, size, frame, job.settings.spp, secondsSinceStart());
     return 0;
 }
 

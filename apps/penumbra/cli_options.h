@@ -1,29 +1,33 @@
-// Parsing and checking of the penumbra command line (CLI11).
+// The penumbra command line (shared by penumbra-mpi): what it says, bound by
+// CLI11 straight into typed fields, and how a bad value is reported.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
-#include <cstdint>
 #include <penumbra/penumbra.hpp>
 
 namespace penumbra::cli {
 
 /// Everything the command line says. Optional fields override the scene file.
+/// Values that only make sense with the scene's or the library's limits
+/// (sizes, counts, the camera, light radiance) are checked by the library
+/// (pnb::validate, pnb::Scene) before any work: option_checks.h.
 struct Options {
     std::filesystem::path scene;
     std::filesystem::path output;
     std::optional<int> width, height, spp, lightSamples, maxDepth, threads, tileSize;
     std::optional<uint64_t> seed;
-    std::string accel = "embree";
-    std::string buildQuality = "high";
+    pnb::AcceleratorKind accel = pnb::AcceleratorKind::Embree;
+    pnb::BuildQuality buildQuality = pnb::BuildQuality::High;
     std::optional<pnb::Vec3> eye, lookAt, up;
     std::optional<float> fov, aperture, focusDistance;
-    std::optional<pnb::Color> ambient, background;  // checked by pnb::Scene when applied
+    std::optional<pnb::Color> ambient, background;
     std::optional<pnb::CropWindow> crop;
-    std::optional<std::string> lightSelection;
+    std::optional<pnb::LightSelection> lightSelection;
     float exposure = 0.f;
     bool aovs = false;
     bool quiet = false;
@@ -33,10 +37,10 @@ struct Options {
     std::optional<pnb::Color> envColor;
     std::optional<std::filesystem::path> envImage;
     std::optional<float> envRotate;
-    std::optional<std::string> integrator;  // "whitted" or "path"
-    std::optional<pnb::PhongModel> model;  // --model: materials of mesh and model files
-    std::optional<float> smoothAngle;      // --smooth-angle: degrees, [0, 180]
-    std::optional<std::string> directLight;  // mis or light
+    std::optional<pnb::IntegratorKind> integrator;
+    std::optional<pnb::PhongModel> model;                   // --model: materials of mesh and model files
+    std::optional<float> smoothAngle;                       // --smooth-angle: degrees, [0, 180]
+    std::optional<pnb::DirectLightSampling> directLight;
 };
 
 /// A bad command-line value found after parsing (checked against the
@@ -57,15 +61,5 @@ struct ParseResult {
     int exitCode = 0;
 };
 ParseResult parseCommandLine(int argc, char** argv, const char* program = "penumbra");
-
-/// "x,y,z" -> Vec3; throws pnb::Error(InvalidArgument) naming the option.
-pnb::Vec3 parseVec3(const std::string& text, const std::string& option);
-/// --env's value: "r,g,b" (three finite numbers >= 0) sets o.envColor, an
-/// image file name (.exr .hdr .pfm .png .jpg .jpeg .tif .tiff) o.envImage.
-/// Throws pnb::Error(InvalidArgument) naming --env for anything else.
-void parseEnvironment(const std::string& text, Options& o);
-
-/// "x0,y0,x1,y1" -> CropWindow.
-pnb::CropWindow parseCrop(const std::string& text);
 
 }  // namespace penumbra::cli

@@ -15,13 +15,11 @@ pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings s) {
     if (o.threads) s.threads = *o.threads;
     if (o.tileSize) s.tileSize = *o.tileSize;
     if (o.seed) s.seed = *o.seed;
-    if (o.lightSelection)
-        s.lightSelection = *o.lightSelection == "power" ? pnb::LightSelection::Power : pnb::LightSelection::All;
+    if (o.lightSelection) s.lightSelection = *o.lightSelection;
     s.crop = o.crop;
     s.aovs = o.aovs;
-    if (o.integrator) s.integrator = *o.integrator == "path" ? pnb::IntegratorKind::Path : pnb::IntegratorKind::Whitted;
-    if (o.directLight)
-        s.directLight = *o.directLight == "light" ? pnb::DirectLightSampling::Light : pnb::DirectLightSampling::Mis;
+    if (o.integrator) s.integrator = *o.integrator;
+    if (o.directLight) s.directLight = *o.directLight;
     return s;
 }
 
@@ -39,7 +37,7 @@ void applyLightOptions(const Options& o, pnb::Scene& scene) {
         try {
             apply();
         } catch (const Error& e) {
-            throw Error(e.code(), std::string(option) + ": " + e.what());
+            throw UsageError(std::string(option) + ": " + e.what());
         }
     };
     if (o.ambient) named("--ambient", [&] { scene.setAmbient(*o.ambient); });
@@ -47,12 +45,6 @@ void applyLightOptions(const Options& o, pnb::Scene& scene) {
     if (o.envColor) named("--env", [&] { scene.setEnvironment(*o.envColor); });
     // The image's own errors name the file (opened here, decoded when the scene is prepared).
     if (o.envImage) scene.setEnvironmentImage(o.envImage->string(), o.envRotate.value_or(0.f));
-}
-
-pnb::BuildQuality buildQualityOf(const Options& o) {
-    return o.buildQuality == "low"      ? pnb::BuildQuality::Low
-           : o.buildQuality == "medium" ? pnb::BuildQuality::Medium
-                                        : pnb::BuildQuality::High;
 }
 
 }  // namespace penumbra::cli

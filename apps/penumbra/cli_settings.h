@@ -14,11 +14,9 @@ pnb::RenderSettings settingsFrom(const Options& o, pnb::RenderSettings fromScene
 /// --eye, --look-at, --up, --fov, --aperture, --focus-distance.
 void applyCameraOptions(const Options& o, pnb::Camera& c);
 
-/// --ambient, --background and --env (replacing the scene's environment), through pnb::Scene, which holds them to the
-/// same limits as a scene file's values; errors name the option.
+/// --ambient, --background and --env (replacing the scene's environment), through pnb::Scene, which holds
+/// the colours to the same limits as a scene file's values (a UsageError naming the option) and opens an
+/// --env image (a pnb::Error naming the file: a file problem, not a usage error).
 void applyLightOptions(const Options& o, pnb::Scene& scene);
-
-/// --build-quality.
-pnb::BuildQuality buildQualityOf(const Options& o);
 
 }  // namespace penumbra::cli

@@ -23,11 +23,12 @@ void precheckOptions(const Options& o) {
             applyCameraOptions(o, c);
             pnb::validate(c);
         }
-        pnb::Scene probe;
-        Options colours = o;
-        colours.envImage.reset();  // opened once, into the loaded scene
-        applyLightOptions(colours, probe);
     });
+    // The colours against the scene's limits, and the --env image opened as the
+    // loaded scene will open it: a missing file, a folder or a FIFO is the same
+    // file error (exit code 1) now as later.
+    pnb::Scene probe;
+    applyLightOptions(o, probe);
     try {
         pnb::checkImagePath(o.output.string());
     } catch (const Error& e) {
@@ -35,8 +36,6 @@ void precheckOptions(const Options& o) {
         throw;
     }
     std::error_code ec;
-    if (o.envImage && fs::symlink_status(*o.envImage, ec).type() == fs::file_type::not_found)
-        throw Error(ErrorCode::FileNotFound, o.envImage->string() + ": no such file");
     // symlink_status: a symlink loop or a FIFO exists, and the loader says what it is.
     if (fs::symlink_status(o.scene, ec).type() == fs::file_type::not_found)
         throw Error(ErrorCode::FileNotFound, o.scene.string() + ": no such file");

@@ -22,9 +22,9 @@ void asUsage(F&& check) {
 }
 
 /// Everything that can be checked without reading the scene: the settings,
-/// the camera when --eye and --look-at give it, the light values, the image
-/// format of -o (UsageError); the scene and --env files exist, the outputs can
-/// be written (pnb::Error).
+/// the camera when --eye and --look-at give it, the light colours, the image
+/// format of -o (UsageError); the scene file exists, the --env image opens,
+/// the outputs can be written (pnb::Error).
 void precheckOptions(const Options& o);
 
 /// The loaded scene's settings overridden by the command line. The scene's own

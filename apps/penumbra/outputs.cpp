@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <penumbra/penumbra.hpp>
 
 namespace penumbra::cli {
@@ -44,12 +45,6 @@ bool isExr(const fs::path& p) {
     std::string e = p.extension().string();
     for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
     return e == ".exr";
-}
-
-bool needsImageLibrary(const Options& o) {
-    std::string e = o.output.extension().string();
-    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return e != ".pfm" || o.aovs;
 }
 
 std::vector<OutputFile> outputsOf(const Options& o) {
@@ -93,7 +88,7 @@ pnb::LoadOptions loadOptionsFor(const Options& o, SceneReads& reads) {
 void checkSceneReads(const Options& o, const SceneReads& reads, const char* program) {
     for (const OutputFile& output : outputsOf(o))
         for (const fs::path& input : reads.all) refuseOverwrite(output, input, "a file the scene reads");
-    if (!reads.outside.empty())
+    if (program && !reads.outside.empty())
         std::fprintf(stderr, "%s: warning: %s: reads %zu file(s) outside the scene's folder, first %s\n", program,
                      o.scene.string().c_str(), reads.outside.size(), reads.outside.begin()->string().c_str());
 }
@@ -132,10 +127,10 @@ nlohmann::json statisticsHeader(const Options& o, const pnb::RenderSettings& s, 
     return j;
 }
 
-void writeStatistics(const fs::path& path, const std::string& text) {
+StagedStatistics::StagedStatistics(const fs::path& path, const std::string& text) : path_(path) {
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-        // Not a file to replace (a device, a FIFO, /dev/stdout): write it in place.
+        // Not a file to replace (a device, a FIFO, /dev/stdout): write it in place, now.
         const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
         if (fd < 0) statisticsFailed(path, errno);
         const bool ok = writeAll(fd, text);
@@ -161,14 +156,31 @@ void writeStatistics(const fs::path& path, const std::string& text) {
         ok = false;
         error = errno;
     }
-    if (ok && ::rename(temp.c_str(), path.c_str()) != 0) {
-        ok = false;
-        error = errno;
-    }
     if (!ok) {
         ::unlink(temp.c_str());
         statisticsFailed(path, error);
     }
+    temp_ = temp;
+}
+
+StagedStatistics::~StagedStatistics() {
+    if (!temp_.empty()) ::unlink(temp_.c_str());
+}
+
+void StagedStatistics::commit() {
+    if (temp_.empty()) return;
+    if (::rename(temp_.c_str(), path_.c_str()) != 0) statisticsFailed(path_, errno);
+    temp_.clear();
+}
+
+void writeOutputs(const Options& o, const pnb::Framebuffer& image, const std::function<std::string()>& statistics) {
+    std::optional<StagedStatistics> staged;
+    if (!o.statsJson.empty()) staged.emplace(o.statsJson, statistics());
+    pnb::ImageOptions options;
+    options.exposure = o.exposure;
+    options.aovs = o.aovs;
+    image.writeImage(o.output.string(), options);
+    if (staged) staged->commit();
 }
 
 }  // namespace penumbra::cli

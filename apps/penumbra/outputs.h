@@ -1,9 +1,10 @@
 // The files a render command writes (the image, its AOV sibling, the
 // statistics): which they are, the checks made before any work, and the
-// statistics file written all or nothing. Shared by penumbra and penumbra-mpi.
+// writing of them all or none. Shared by penumbra and penumbra-mpi.
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -18,9 +19,6 @@ namespace penumbra::cli {
 
 /// The path names an OpenEXR file (by its extension, any case).
 bool isExr(const std::filesystem::path& p);
-
-/// Whether writing the command's images takes OpenImageIO: every format but a PFM without AOVs.
-bool needsImageLibrary(const Options& o);
 
 /// What the command writes: -o, its `<stem>.aovs.exr` sibling (AOVs with a
 /// format other than EXR), --stats-json.
@@ -41,7 +39,8 @@ struct SceneReads {
 pnb::LoadOptions loadOptionsFor(const Options& o, SceneReads& reads);
 
 /// After loading: refuses an output that is a file the scene reads (MTL,
-/// textures, meshes), and warns once, as `program`, about reads outside the scene's folder.
+/// textures, meshes), and warns once, as `program` (unless null), about reads
+/// outside the scene's folder.
 void checkSceneReads(const Options& o, const SceneReads& reads, const char* program);
 
 /// After rendering: warns, as `program`, when the image is black or nearly
@@ -55,11 +54,27 @@ void warnIfEmptyImage(const Options& o, const pnb::Framebuffer& image, const pnb
 /// accelerator and the settings that shape the image.
 nlohmann::json statisticsHeader(const Options& o, const pnb::RenderSettings& s, const std::string& accelerator);
 
-/// Writes `text` to `path` in full or throws pnb::Error(IoError) naming it
-/// ("PATH: cannot write statistics: ..."). A regular file (or a new one) is
-/// written to a temporary beside it and renamed, so a failure leaves what was
-/// there; a path that is not a regular file (/dev/stdout, a FIFO) is written
-/// as it is, every write checked.
-void writeStatistics(const std::filesystem::path& path, const std::string& text);
+/// The statistics file, complete before the image is written: a regular file
+/// (or a new one) as a temporary beside it, renamed into place by commit() and
+/// removed by the destructor otherwise; a path that is not a regular file
+/// (/dev/stdout, a FIFO) is written at once, every write checked. Throws
+/// pnb::Error(IoError) "PATH: cannot write statistics: ..." (and leaves what was there).
+class StagedStatistics {
+public:
+    StagedStatistics(const std::filesystem::path& path, const std::string& text);
+    ~StagedStatistics();
+    StagedStatistics(const StagedStatistics&) = delete;
+    StagedStatistics& operator=(const StagedStatistics&) = delete;
+    void commit();
+
+private:
+    std::filesystem::path path_, temp_;  // temp_: empty once committed, or when written in place
+};
+
+/// Writes -o (and its AOV sibling, with --exposure and --aovs) and the
+/// --stats-json text `statistics` gives, as one: the statistics are complete
+/// before the image is written, and in place only after it, so a run whose
+/// image or statistics fail leaves neither new file.
+void writeOutputs(const Options& o, const pnb::Framebuffer& image, const std::function<std::string()>& statistics);
 
 }  // namespace penumbra::cli

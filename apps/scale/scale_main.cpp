@@ -13,8 +13,10 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <new>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "core/error.h"
 #include "core/image_io.h"
@@ -70,33 +72,48 @@ TriangleMesh heightfield(uint64_t triangles) {
     return m;
 }
 
-int run(int argc, char** argv) {
+struct ScaleOptions {
     uint64_t triangles = 10'000'000;
     RenderSettings settings;
-    settings.width = 320;
-    settings.height = 240;
-    settings.spp = 4;
-    settings.lightSamples = 1;
-    settings.maxDepth = 1;
-    settings.aovs = false;
     std::string quality = "high", output, jsonPath;
+};
 
+const std::map<std::string, BuildQuality> kQualities{
+    {"low", BuildQuality::Low}, {"medium", BuildQuality::Medium}, {"high", BuildQuality::High}};
+
+/// The options, or the exit code when parsing ended the program (help, a usage error).
+std::optional<ScaleOptions> parseOptions(int argc, char** argv, int& exitCode) {
+    ScaleOptions o;
+    RenderSettings& s = o.settings;
+    s.width = 320;
+    s.height = 240;
+    s.spp = 4;
+    s.lightSamples = 1;
+    s.maxDepth = 1;
+    s.aovs = false;
     CLI::App app{"penumbra-scale: build and render an N-triangle scene generated in memory; report memory and time"};
-    app.add_option("--triangles", triangles, "Triangle count")->capture_default_str()->check(CLI::Range(1ull, 1ull << 31));
-    app.add_option("--width", settings.width, "Image width")->capture_default_str();
-    app.add_option("--height", settings.height, "Image height")->capture_default_str();
-    app.add_option("--spp", settings.spp, "Samples per pixel")->capture_default_str();
-    app.add_option("--threads", settings.threads, "Render threads (0 = all cores)")->capture_default_str();
-    app.add_option("--quality", quality, "Embree BVH quality: low, medium or high")
+    app.add_option("--triangles", o.triangles, "Triangle count")->capture_default_str()->check(CLI::Range(1ull, 1ull << 31));
+    app.add_option("--width", s.width, "Image width")->capture_default_str();
+    app.add_option("--height", s.height, "Image height")->capture_default_str();
+    app.add_option("--spp", s.spp, "Samples per pixel")->capture_default_str();
+    app.add_option("--threads", s.threads, "Render threads (0 = all cores)")->capture_default_str();
+    app.add_option("--quality", o.quality, "Embree BVH quality: low, medium or high")
         ->capture_default_str()
-        ->check(CLI::IsMember({"low", "medium", "high"}));
-    app.add_option("-o,--output", output, "Also write the image (.exr, .png, ...)");
-    app.add_option("--json", jsonPath, "Write the report as JSON");
-    CLI11_PARSE(app, argc, argv);
-    validateSettings(settings);
+        ->check(CLI::IsMember(kQualities));
+    app.add_option("-o,--output", o.output, "Also write the image (.exr, .png, ...)");
+    app.add_option("--json", o.jsonPath, "Write the report as JSON");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        exitCode = app.exit(e);
+        return std::nullopt;
+    }
+    validateSettings(s);
+    return o;
+}
 
-    const uint64_t rssStart = peakRssBytes();
-    auto t0 = Clock::now();
+/// The heightfield under a rectangle lamp that faces it.
+Scene heightfieldScene(uint64_t triangles) {
     Scene scene;
     Material ground;
     ground.name = "ground";
@@ -110,74 +127,105 @@ int run(int argc, char** argv) {
     scene.meshes[0].material = 0;
     // a x b points down: the lamp faces the ground.
     scene.rectangles.push_back(Rectangle{Vec3f{-0.3f, 1.5f, -0.3f}, Vec3f{0.6f, 0.f, 0.f}, Vec3f{0.f, 0.f, 0.6f}, 1});
+    return scene;
+}
+
+/// What one run measured.
+struct Measured {
+    uint64_t triangles = 0, vertices = 0;
+    uint64_t positionBytes = 0, indexBytes = 0, bvhBytes = 0;
+    uint64_t rssStart = 0, rssGenerated = 0, rssPrepared = 0, rssRendered = 0;
+    double generateSeconds = 0, prepareSeconds = 0;
+    RenderStats stats;
+    double meanRadiance = 0;
+};
+
+Measured measure(const ScaleOptions& o) {
+    Measured m;
+    m.rssStart = peakRssBytes();
+    auto t0 = Clock::now();
+    Scene scene = heightfieldScene(o.triangles);
     const TriangleMesh& mesh = scene.meshes[0];
-    const uint64_t positionBytes = mesh.positions.capacityBytes();
-    const uint64_t indexBytes = mesh.indices.capacity() * sizeof(uint32_t);
-    const uint64_t vertexCount = mesh.positions.size();
-    const double generateSeconds = secondsSince(t0);
-    const uint64_t rssGenerated = peakRssBytes();
+    m.positionBytes = mesh.positions.capacityBytes();
+    m.indexBytes = mesh.indices.capacity() * sizeof(uint32_t);
+    m.vertices = mesh.positions.size();
+    m.generateSeconds = secondsSince(t0);
+    m.rssGenerated = peakRssBytes();
 
     Logger log;
     PrepareOptions prep;
-    prep.quality = quality == "low" ? BuildQuality::Low : quality == "medium" ? BuildQuality::Medium : BuildQuality::High;
+    prep.quality = kQualities.at(o.quality);
     t0 = Clock::now();
     PreparedScene prepared(std::move(scene), prep, log);
-    const double prepareSeconds = secondsSince(t0);
-    const uint64_t bvhBytes = prepared.accelerator().memoryBytes();
-    const uint64_t rssPrepared = peakRssBytes();
-    const uint64_t triangleCount = prepared.scene().triangleCount();
+    m.prepareSeconds = secondsSince(t0);
+    m.bvhBytes = prepared.accelerator().memoryBytes();
+    m.rssPrepared = peakRssBytes();
+    m.triangles = prepared.scene().triangleCount();
 
     CameraDesc camera;
     camera.eye = Vec3f{0.f, 1.1f, 2.2f};
     camera.lookAt = Vec3f{0.f, 0.f, 0.f};
     camera.vfovDegrees = 40.f;
-    Film film = makeFilm(settings);
-    RenderStats stats = render(prepared, camera, settings, film).stats;
-    const uint64_t rssRendered = peakRssBytes();
-    if (!output.empty()) writeImage(output, film, {});
+    Film film = makeFilm(o.settings);
+    m.stats = render(prepared, camera, o.settings, film).stats;
+    m.rssRendered = peakRssBytes();
+    if (!o.output.empty()) writeImage(o.output, film, {});
+    for (size_t i = 0, n = size_t(film.width()) * film.height(); i < n; ++i) m.meanRadiance += film.radiance(i).average();
+    m.meanRadiance /= double(film.width()) * film.height();
+    return m;
+}
 
-    double mean = 0.0;
-    for (size_t i = 0, n = size_t(film.width()) * film.height(); i < n; ++i) mean += film.radiance(i).average();
-    mean /= double(film.width()) * film.height();
-
-    const double perTri = 1.0 / double(triangleCount);
+void printReport(const ScaleOptions& o, const Measured& m) {
+    const RenderSettings& s = o.settings;
+    const double perTri = 1.0 / double(m.triangles);
     std::printf("penumbra-scale: %llu triangles, %llu vertices (one mesh, generated in memory)\n",
-                (unsigned long long)triangleCount, (unsigned long long)vertexCount);
-    std::printf("  generate   %7.2f s   peak RSS %8.1f MiB\n", generateSeconds, mib(rssGenerated));
-    std::printf("  prepare    %7.2f s   peak RSS %8.1f MiB   (Embree BVH, quality %s)\n", prepareSeconds,
-                mib(rssPrepared), quality.c_str());
+                (unsigned long long)m.triangles, (unsigned long long)m.vertices);
+    std::printf("  generate   %7.2f s   peak RSS %8.1f MiB\n", m.generateSeconds, mib(m.rssGenerated));
+    std::printf("  prepare    %7.2f s   peak RSS %8.1f MiB   (Embree BVH, quality %s)\n", m.prepareSeconds,
+                mib(m.rssPrepared), o.quality.c_str());
     std::printf("  render     %7.2f s   peak RSS %8.1f MiB   (%dx%d, %d spp, %d threads, %.2f Mrays/s, mean %.4f)\n",
-                stats.renderSeconds, mib(rssRendered), settings.width, settings.height, settings.spp, stats.threads,
-                stats.mraysPerSecond, mean);
+                m.stats.renderSeconds, mib(m.rssRendered), s.width, s.height, s.spp, m.stats.threads,
+                m.stats.mraysPerSecond, m.meanRadiance);
     std::printf("  memory     positions %.1f MiB + indices %.1f MiB = %.1f bytes/triangle (Penumbra's arrays)\n",
-                mib(positionBytes), mib(indexBytes), double(positionBytes + indexBytes) * perTri);
-    std::printf("             Embree BVH %.1f MiB = %.1f bytes/triangle\n", mib(bvhBytes), double(bvhBytes) * perTri);
-    std::printf("             peak RSS %.1f MiB = %.1f bytes/triangle (process start: %.1f MiB)\n", mib(rssRendered),
-                double(rssRendered) * perTri, mib(rssStart));
+                mib(m.positionBytes), mib(m.indexBytes), double(m.positionBytes + m.indexBytes) * perTri);
+    std::printf("             Embree BVH %.1f MiB = %.1f bytes/triangle\n", mib(m.bvhBytes), double(m.bvhBytes) * perTri);
+    std::printf("             peak RSS %.1f MiB = %.1f bytes/triangle (process start: %.1f MiB)\n", mib(m.rssRendered),
+                double(m.rssRendered) * perTri, mib(m.rssStart));
+}
 
-    if (!jsonPath.empty()) {
-        nlohmann::json j;
-        j["triangles"] = triangleCount;
-        j["vertices"] = vertexCount;
-        j["build_quality"] = quality;
-        j["seconds"] = {{"generate", generateSeconds}, {"prepare", prepareSeconds}, {"render", stats.renderSeconds}};
-        j["bytes"] = {{"positions", positionBytes},
-                      {"indices", indexBytes},
-                      {"embree_bvh", bvhBytes},
-                      {"peak_rss_start", rssStart},
-                      {"peak_rss_generated", rssGenerated},
-                      {"peak_rss_prepared", rssPrepared},
-                      {"peak_rss", rssRendered}};
-        j["bytes_per_triangle"] = {{"penumbra_arrays", double(positionBytes + indexBytes) * perTri},
-                                   {"embree_bvh", double(bvhBytes) * perTri},
-                                   {"peak_rss", double(rssRendered) * perTri}};
-        j["render"] = {{"width", settings.width},     {"height", settings.height},
-                       {"spp", settings.spp},         {"threads", stats.threads},
-                       {"mrays_per_second", stats.mraysPerSecond}, {"mean_radiance", mean}};
-        std::ofstream out(jsonPath);
-        out << j.dump(2) << "\n";
-        if (!out) throw Error(ErrorCode::IoError, jsonPath + ": cannot write the report");
-    }
+void writeJson(const ScaleOptions& o, const Measured& m) {
+    const RenderSettings& s = o.settings;
+    const double perTri = 1.0 / double(m.triangles);
+    nlohmann::json j;
+    j["triangles"] = m.triangles;
+    j["vertices"] = m.vertices;
+    j["build_quality"] = o.quality;
+    j["seconds"] = {{"generate", m.generateSeconds}, {"prepare", m.prepareSeconds}, {"render", m.stats.renderSeconds}};
+    j["bytes"] = {{"positions", m.positionBytes},
+                  {"indices", m.indexBytes},
+                  {"embree_bvh", m.bvhBytes},
+                  {"peak_rss_start", m.rssStart},
+                  {"peak_rss_generated", m.rssGenerated},
+                  {"peak_rss_prepared", m.rssPrepared},
+                  {"peak_rss", m.rssRendered}};
+    j["bytes_per_triangle"] = {{"penumbra_arrays", double(m.positionBytes + m.indexBytes) * perTri},
+                               {"embree_bvh", double(m.bvhBytes) * perTri},
+                               {"peak_rss", double(m.rssRendered) * perTri}};
+    j["render"] = {{"width", s.width},     {"height", s.height},
+                   {"spp", s.spp},         {"threads", m.stats.threads},
+                   {"mrays_per_second", m.stats.mraysPerSecond}, {"mean_radiance", m.meanRadiance}};
+    std::ofstream out(o.jsonPath);
+    out << j.dump(2) << "\n";
+    if (!out) throw Error(ErrorCode::IoError, o.jsonPath + ": cannot write the report");
+}
+
+int run(int argc, char** argv) {
+    int exitCode = 0;
+    const std::optional<ScaleOptions> o = parseOptions(argc, argv, exitCode);
+    if (!o) return exitCode;
+    const Measured m = measure(*o);
+    printReport(*o, m);
+    if (!o->jsonPath.empty()) writeJson(*o, m);
     return 0;
 }
 

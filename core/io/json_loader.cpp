@@ -39,6 +39,8 @@ LoadedScene SceneReader::read(const Json& root) {
                                        modelDirectionalLights_.end());
     }
     if (!out.camera) out.camera = modelCamera_;
+    scene.countExpansion(copies_);  // Scene::finalize's copies, refused here with the file's name
+    copies_.check(file_ + ": nested prototypes and emissive instances");
     log_.debug(file_ + ": " + std::to_string(scene.primitiveCount()) + " primitive(s), " +
                std::to_string(scene.materials.size()) + " material(s)");
     return out;

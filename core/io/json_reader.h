@@ -111,17 +111,39 @@ private:
     uint32_t lightMaterial(const Json& j, const std::string& ptr, Scene& scene) const;
 
     // ---- prototypes and instances (json_instances.cpp)
-    void readPrototypes(const Json& j, const std::string& ptr, Scene& scene);
-    /// Index in Scene::prototypes of the prototype `name`, read on first use;
-    /// refPtr is where the name was given (for unknown names and cycles).
-    uint32_t resolvePrototype(const std::string& name, const std::string& refPtr, Scene& scene);
+    struct PrototypeEntry {
+        const Json* json = nullptr;
+        std::string ptr;
+        std::optional<uint32_t> index;  // in Scene::prototypes, once read
+    };
     struct PlacedPrototype {
         uint32_t prototype = 0;
         Transform worldFromObject;
         uint32_t material = kNoMaterialOverride;
     };
+    /// One shape of a prototype as read: its meshes, or a placement of another prototype.
+    struct PrototypePart {
+        std::vector<TriangleMesh> meshes;
+        std::optional<PlacedPrototype> placed;
+        std::string ptr;
+    };
+    void readPrototypes(const Json& j, const std::string& ptr, Scene& scene);
+    /// The prototypes that `e` places, with the JSON pointer of each name.
+    std::vector<std::pair<std::string, std::string>> placedPrototypes(const PrototypeEntry& e) const;
+    /// Every prototype's name, each after the prototypes it places; refuses
+    /// unknown names and cycles. A loop with a stack of its own (no recursion).
+    std::vector<std::string> prototypeOrder(const Json& j) const;
+    /// Index in Scene::prototypes of the prototype `name` (`read`: it has been
+    /// read; else only its existence is checked); refPtr is where the name was given.
+    uint32_t resolvePrototype(const std::string& name, const std::string& refPtr, bool read) const;
+    /// A prototype's shapes in order: meshes read, placements parsed, nothing copied.
+    std::vector<PrototypePart> readPrototypeParts(const PrototypeEntry& e, Scene& scene);
+    /// Fills `proto` with the parts' meshes and copies of the prototypes they place.
+    void flatten(std::vector<PrototypePart>& parts, Prototype& proto, const Scene& scene) const;
     /// The keys of an "instance" entry, checked.
-    PlacedPrototype readPlacement(const Json& j, const std::string& ptr, Scene& scene);
+    PlacedPrototype parsePlacement(const Json& j, const std::string& ptr, Scene& scene);
+    /// Refuses a placement reaching beyond what the accelerators represent.
+    void checkPlacementRange(const PlacedPrototype& placed, const std::string& ptr) const;
     void readInstance(const Json& j, const std::string& ptr, Scene& scene);
     // ---- the environment light (json_environment.cpp)
     void readEnvironment(const Json& j, const std::string& ptr, Scene& scene) const;
@@ -134,13 +156,9 @@ private:
     const LoadOptions& options_;
     const Logger& log_;
     std::map<std::string, uint32_t> names_;  // JSON material name -> Scene::materials index
-    struct PrototypeEntry {
-        const Json* json = nullptr;
-        std::string ptr;
-        std::optional<uint32_t> index;  // in Scene::prototypes, once read
-    };
     std::map<std::string, PrototypeEntry> prototypeEntries_;  // by name
-    std::vector<std::string> resolving_;                      // the prototypes being read, outermost first
+    CopyCount copies_;                       // the copies the file asks for (core/instance.h)
+    std::vector<Bounds3f> prototypeBounds_;  // by Scene::prototypes index, once flattened
     // What model files named by meshes say of the view and the lights.
     std::optional<CameraDesc> modelCamera_;
     std::vector<PointLight> modelPointLights_;

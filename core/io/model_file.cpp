@@ -62,7 +62,11 @@ LoadedScene loadModelScene(const fs::path& path, const LoadOptions& options, con
         throw Error(ErrorCode::OutOfMemory, path.string() + ": out of memory while loading the scene");
     }
     if (model.stats.triangles == 0)
-        throw Error(ErrorCode::InvalidScene, path.string() + ": nothing to render (the file has no triangles)");
+        throw Error(ErrorCode::InvalidScene,
+                    path.string() + ": nothing to render " +
+                        (model.stats.droppedFaces ? "(all " + std::to_string(model.stats.droppedFaces) +
+                                                        " face(s) were dropped for non-finite or missing vertex positions)"
+                                                  : std::string("(the file has no triangles)")));
     loaded.camera = model.extras.camera;
     Scene& s = loaded.scene;
     s.pointLights.insert(s.pointLights.end(), model.extras.pointLights.begin(), model.extras.pointLights.end());

@@ -1,6 +1,9 @@
 // Renderer (load, prepare, render, progressive passes) and RenderJob
 // (asynchronous renders). Every render runs without the GIL.
+#include <algorithm>
 #include <optional>
+#include <stdexcept>
+#include <vector>
 
 #include "bindings.h"
 #include "wait.h"
@@ -25,6 +28,17 @@ bool interpreterAlive() {
     std::string what = e.what();  // "Type: message", then pybind11's traceback: keep the first line
     what = what.substr(0, what.find('\n'));
     throw pnb::Error(pnb::ErrorCode::Internal, std::string(which) + " callback raised " + what);
+}
+
+// prepare()'s accelerator: an AcceleratorKind, or its name as the command line spells it.
+pnb::AcceleratorKind acceleratorFrom(const py::handle& value) {
+    if (py::isinstance<py::str>(value)) {
+        const std::string s = value.cast<std::string>();
+        if (s == "embree") return pnb::AcceleratorKind::Embree;
+        if (s == "naive") return pnb::AcceleratorKind::Naive;
+        throw pnb::Error(pnb::ErrorCode::InvalidArgument, "accelerator must be 'embree' or 'naive', got '" + s + "'");
+    }
+    return value.cast<pnb::AcceleratorKind>();
 }
 
 // ---- resolving the arguments every render takes
@@ -90,21 +104,27 @@ pnb::LogCallback logCallback(const py::object& fn) {
 
 // ---- asynchronous jobs
 
-// Set while a job's callback runs on a library thread. Python code there may
-// drop the last reference to the job, whose destructor joins that very thread
-// (or waits for the render this thread works for): such a job is destroyed on
-// a thread of its own instead.
-thread_local int jobCallbackDepth = 0;
+// What a job's callbacks and its PyJob share: the job's identity.
+struct JobToken {};
+
+// The jobs whose callbacks run on this thread (a library thread), innermost
+// last. Python code there may drop the last reference to a job, whose
+// destructor joins that very thread (or waits for the render this thread
+// works for): such a job is destroyed on a thread of its own instead. And it
+// may wait for its own job, which cannot end before the callback returns:
+// that raises, as Thread.join() on the current thread does.
+thread_local std::vector<const JobToken*> callbackJobs;
 
 struct InJobCallback {
-    InJobCallback() { ++jobCallbackDepth; }
-    ~InJobCallback() { --jobCallbackDepth; }
+    explicit InJobCallback(const JobToken* job) { callbackJobs.push_back(job); }
+    ~InJobCallback() { callbackJobs.pop_back(); }
     InJobCallback(const InJobCallback&) = delete;
     InJobCallback& operator=(const InJobCallback&) = delete;
 };
 
 struct PyJob {
     pnb::RenderJob job;
+    std::shared_ptr<const JobToken> token;
     std::shared_ptr<PyFramebuffer> image;  // taken out of the job on first request
 
     PyJob() = default;
@@ -113,7 +133,7 @@ struct PyJob {
     // Destroying a running job cancels and joins it; its thread may be
     // waiting for the GIL (a callback), so give it up meanwhile.
     ~PyJob() {
-        if (jobCallbackDepth > 0) {
+        if (!callbackJobs.empty()) {
             std::thread([j = std::move(job)]() mutable { j = pnb::RenderJob(); }).detach();
             return;
         }
@@ -123,8 +143,17 @@ struct PyJob {
         }
     }
 
+    // Raises RuntimeError inside one of this job's own callbacks.
+    void refuseWaitFromOwnCallback() const {
+        if (std::find(callbackJobs.begin(), callbackJobs.end(), token.get()) != callbackJobs.end())
+            throw std::runtime_error(
+                "cannot wait for a render job inside its own progress, on_pass or on_complete callback: the job "
+                "ends only after the callback returns");
+    }
+
     // Waits with the GIL released, polling for Ctrl-C (which cancels the job).
     bool wait(std::optional<double> timeoutSeconds) {
+        refuseWaitFromOwnCallback();
         const auto deadline = std::chrono::steady_clock::now() +
                               std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                   std::chrono::duration<double>(timeoutSeconds.value_or(0.0)));
@@ -155,15 +184,15 @@ struct PyJob {
     }
 };
 
-pnb::AsyncOptions asyncOptions(std::uint32_t passSamples, const py::object& progress, const py::object& onPass,
-                               const py::object& onComplete) {
+pnb::AsyncOptions asyncOptions(const std::shared_ptr<const JobToken>& job, std::uint32_t passSamples,
+                               const py::object& progress, const py::object& onPass, const py::object& onComplete) {
     pnb::AsyncOptions o;
     o.passSamples = passSamples;
     if (!progress.is_none()) {
         PyCallable cb(progress);
-        o.progress = [cb](double f) {
+        o.progress = [cb, job](double f) {
             if (!interpreterAlive()) return;  // at exit: nobody to call
-            InJobCallback inCallback;
+            InJobCallback inCallback(job.get());
             py::gil_scoped_acquire gil;
             try {
                 cb.get()(f);
@@ -174,10 +203,10 @@ pnb::AsyncOptions asyncOptions(std::uint32_t passSamples, const py::object& prog
     }
     if (!onPass.is_none()) {
         PyCallable cb(onPass);
-        o.onPass = [cb](const pnb::Framebuffer& image, std::uint32_t samplesDone) {
+        o.onPass = [cb, job](const pnb::Framebuffer& image, std::uint32_t samplesDone) {
             if (!interpreterAlive()) return;  // at exit: nobody to call
             auto copy = std::make_shared<PyFramebuffer>(image);  // the job's own image is lent only for the call
-            InJobCallback inCallback;
+            InJobCallback inCallback(job.get());
             py::gil_scoped_acquire gil;
             try {
                 cb.get()(std::move(copy), samplesDone);
@@ -188,11 +217,11 @@ pnb::AsyncOptions asyncOptions(std::uint32_t passSamples, const py::object& prog
     }
     if (!onComplete.is_none()) {
         PyCallable cb(onComplete);
-        o.onComplete = [cb](const pnb::JobResult& r) {
+        o.onComplete = [cb, job](const pnb::JobResult& r) {
             if (!interpreterAlive()) return;  // at exit: nobody to call
             std::shared_ptr<PyFramebuffer> image;
             if (r.framebuffer) image = std::make_shared<PyFramebuffer>(*r.framebuffer);
-            InJobCallback inCallback;
+            InJobCallback inCallback(job.get());
             py::gil_scoped_acquire gil;
             try {
                 py::object result = py::module_::import("types").attr("SimpleNamespace")(
@@ -244,6 +273,7 @@ void bindJob(py::module_& m) {
         .def("__enter__", [](py::object self) { return self; })
         .def("__exit__",
              [](PyJob& j, const py::args&) {
+                 j.refuseWaitFromOwnCallback();
                  j.job.cancel();
                  py::gil_scoped_release release;
                  j.job.wait();
@@ -314,18 +344,18 @@ void bindRenderer(py::module_& m) {
             "file and line or JSON path.")
         .def(
             "prepare",
-            [](const pnb::Renderer& r, const pnb::Scene& scene, const std::string& accelerator,
+            [](const pnb::Renderer& r, const pnb::Scene& scene, const py::object& accelerator,
                pnb::BuildQuality quality) {
                 pnb::PrepareOptions o;
-                o.accelerator = accelerator;
+                o.accelerator = acceleratorFrom(accelerator);
                 o.quality = quality;
                 py::gil_scoped_release release;
                 return r.prepare(scene, o);
             },
-            py::arg("scene"), py::kw_only(), py::arg("accelerator") = "embree",
+            py::arg("scene"), py::kw_only(), py::arg("accelerator") = pnb::AcceleratorKind::Embree,
             py::arg("quality") = pnb::BuildQuality::High,
             "Validates the scene (repairs are logged and counted), builds its BVH and light tables. "
-            "accelerator: 'embree' or 'naive'.")
+            "accelerator: AcceleratorKind.Embree or .Naive (or 'embree', 'naive').")
         .def(
             "render",
             [](const pnb::Renderer& r, const py::object& scene, const py::object& camera, const py::object& settings,
@@ -384,8 +414,9 @@ void bindRenderer(py::module_& m) {
                std::uint32_t passSamples, const py::object& progress, const py::object& onPass,
                const py::object& onComplete, const py::kwargs& kw) {
                 const RenderArgs a = argsFrom(r, scene, camera, settings, kw);
-                pnb::AsyncOptions o = asyncOptions(passSamples, progress, onPass, onComplete);
                 auto job = std::make_unique<PyJob>();
+                job->token = std::make_shared<JobToken>();
+                pnb::AsyncOptions o = asyncOptions(job->token, passSamples, progress, onPass, onComplete);
                 job->job = r.renderAsync(a.scene, a.camera, a.settings, std::move(o));
                 return job;
             },

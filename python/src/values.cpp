@@ -185,6 +185,9 @@ void bindValues(py::module_& m) {
                                         "Mis: light + BRDF samples (default); Light: light samples only")
         .value("Mis", pnb::DirectLightSampling::Mis)
         .value("Light", pnb::DirectLightSampling::Light);
+    py::enum_<pnb::AcceleratorKind>(m, "AcceleratorKind")
+        .value("Embree", pnb::AcceleratorKind::Embree)
+        .value("Naive", pnb::AcceleratorKind::Naive);
     py::enum_<pnb::BuildQuality>(m, "BuildQuality")
         .value("Low", pnb::BuildQuality::Low)
         .value("Medium", pnb::BuildQuality::Medium)

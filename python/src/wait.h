@@ -22,7 +22,8 @@ inline constexpr std::chrono::milliseconds kPollInterval{20};
 /// released, polling every kPollInterval (with the GIL) for
 ///  - signals (PyErr_CheckSignals): a KeyboardInterrupt cancels the render,
 ///    waits for it to stop and is raised;
-///  - `cancelEvent.is_set()` (a threading.Event or anything alike): cancels;
+///  - `cancelEvent.is_set()` (a threading.Event or anything alike): cancels
+///    (already set before the call: throws Error(Cancelled) at once);
 ///  - progress: `progress(fraction)` is called on the calling thread when the
 ///    fraction moved, and with 1.0 at the end of a successful call.
 /// The library's exceptions are rethrown here (penumbra.Error); an exception
@@ -31,6 +32,11 @@ template <class Work>
 auto runWaiting(Work&& work, const py::object& progress, const py::object& cancelEvent)
     -> decltype(work(std::declval<const pnb::RenderControl&>())) {
     using Result = decltype(work(std::declval<const pnb::RenderControl&>()));
+    const bool hasProgress = !progress.is_none();
+    const bool hasCancel = !cancelEvent.is_none();
+    // Set before the call: nothing is rendered (a render shorter than one poll would otherwise finish).
+    if (hasCancel && cancelEvent.attr("is_set")().cast<bool>())
+        throw pnb::Error(pnb::ErrorCode::Cancelled, "render cancelled before it started: the cancel event is set");
     struct Shared {
         std::atomic<bool> cancel{false};
         std::atomic<double> fraction{0.0};
@@ -67,8 +73,6 @@ auto runWaiting(Work&& work, const py::object& progress, const py::object& cance
                  shared.cv.notify_all();
              })};
 
-    const bool hasProgress = !progress.is_none();
-    const bool hasCancel = !cancelEvent.is_none();
     double reported = -1.0;
     for (bool finished = false; !finished;) {
         {

@@ -223,3 +223,77 @@ def test_render_releases_the_gil(renderer, cornell):
     # A render holding the GIL would stop this thread for its whole length (count 0); without
     # it this thread keeps a good part of its pace, even on a busy machine.
     assert count > baseline / 10, (count, baseline)
+
+
+def test_waiting_for_a_job_inside_its_own_callbacks_raises(renderer, cornell):
+    # With timeouts, so that a build without the check fails here instead of hanging
+    # (the blocking calls are tried in a child process below).
+    holder, started, seen = [], threading.Event(), {}
+
+    def attempt(name, call):
+        try:
+            call()
+            seen.setdefault(name, "returned")
+        except Exception as e:  # noqa: BLE001 - the type is what the test checks
+            seen.setdefault(name, e)
+
+    def on_pass(fb, samples):
+        started.wait()
+        attempt("wait", lambda: holder[0].wait(timeout=0.01))
+        attempt("result", lambda: holder[0].result(timeout=0.01))
+
+    def on_complete(result):
+        attempt("on_complete", lambda: holder[0].result(timeout=0.01))
+
+    holder.append(renderer.render_async(cornell, width=16, height=16, spp=2, pass_samples=1,
+                                        on_pass=on_pass, on_complete=on_complete))
+    started.set()
+    image = holder[0].result(timeout=20)
+    assert image.shape == (16, 16, 3)
+    for name in ("wait", "result", "on_complete"):
+        assert isinstance(seen[name], RuntimeError) and not isinstance(seen[name], penumbra.Error), (name, seen[name])
+        assert "inside its own" in str(seen[name])
+
+
+WAIT_IN_CALLBACK = """
+import sys
+import penumbra
+r = penumbra.Renderer()
+scene = r.prepare(r.load_scene(sys.argv[1]))
+jobs = []
+def on_pass(fb, samples):
+    jobs[0].wait()   # not caught: the job fails with the callback's error
+def on_complete(result):
+    try:
+        jobs[0].result()
+    except RuntimeError as e:
+        print("on_complete:", e, flush=True)
+jobs.append(r.render_async(scene, width=16, height=16, spp=2, pass_samples=1, on_pass=on_pass,
+                           on_complete=on_complete))
+print(jobs[0].error, flush=True)
+"""
+
+
+def test_an_uncaught_wait_in_a_callback_fails_the_job_and_the_interpreter_exits():
+    done = subprocess.run(
+        [sys.executable, "-c", WAIT_IN_CALLBACK, str(SOURCE_DIR / "assets" / "cornell" / "cornell.obj")],
+        capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert "on_pass callback raised RuntimeError" in done.stdout, done.stdout
+    assert "on_complete: cannot wait for a render job inside its own" in done.stdout, done.stdout
+
+
+@pytest.mark.parametrize("how", ["render", "render_pass"])
+def test_a_cancel_event_set_before_the_call_cancels_even_a_tiny_render(renderer, how):
+    scene = renderer.prepare(small_scene())
+    cancel = threading.Event()
+    cancel.set()
+    settings = penumbra.RenderSettings(width=2, height=2, spp=1)
+    fb = penumbra.Framebuffer(settings)
+    with pytest.raises(penumbra.Error) as info:
+        if how == "render":
+            renderer.render(scene, settings=settings, cancel=cancel)
+        else:
+            renderer.render_pass(scene, fb, 0, 1, settings=settings, cancel=cancel)
+    assert info.value.code == penumbra.ErrorCode.Cancelled
+    assert not fb.incomplete  # nothing was rendered into it

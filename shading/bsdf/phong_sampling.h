@@ -1,6 +1,6 @@
 // Sampling the Phong BRDF (Lafortune & Willems 1994): a mixture of the
 // cosine-weighted diffuse lobe and the cos^n lobe about the mirror direction
-// of wo, for both models of shading/phong.h.
+// of wo, for both models of shading/bsdf/phong.h.
 //
 // Directions and normals are unit vectors pointing away from the surface; n is
 // the shading normal (facing wo) and every cosine below is taken with it. The

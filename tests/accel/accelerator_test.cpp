@@ -59,8 +59,8 @@ Scene smallScene() {
 
 TEST(AcceleratorTest, NamesFactoryAndMemory) {
     Scene scene = smallScene();
-    auto naive = makeAccelerator("naive", scene);
-    auto embree = makeAccelerator("embree", scene, BuildQuality::Low);
+    auto naive = makeAccelerator(AcceleratorKind::Naive, scene);
+    auto embree = makeAccelerator(AcceleratorKind::Embree, scene, BuildQuality::Low);
     EXPECT_EQ(naive->name(), "naive");
     EXPECT_EQ(embree->name(), "embree");
     EXPECT_EQ(naive->memoryBytes(), 0u);
@@ -68,11 +68,11 @@ TEST(AcceleratorTest, NamesFactoryAndMemory) {
     EXPECT_LT(embree->memoryBytes(), size_t(64) << 20);  // a handful of primitives: far below 64 MiB
     EXPECT_EQ(&embree->scene(), &scene);
     try {
-        makeAccelerator("Embree", scene);
+        makeAccelerator(static_cast<AcceleratorKind>(2), scene);
         FAIL() << "expected an Error";
     } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
-        EXPECT_NE(std::string(e.what()).find("Embree"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("accelerator 2 is not an AcceleratorKind"), std::string::npos) << e.what();
     }
 }
 

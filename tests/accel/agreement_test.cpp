@@ -604,8 +604,8 @@ TEST(AcceleratorAgreementTest, OcclusionPacketsAnswerAsSingleRaysAtEveryShapesBo
         tri.indices = {0, 1, 2};
         scene.meshes.push_back(tri);
         scene.finalize(quietLogger());
-        const auto embree = makeAccelerator("embree", scene);
-        const auto naive = makeAccelerator("naive", scene);
+        const auto embree = makeAccelerator(AcceleratorKind::Embree, scene);
+        const auto naive = makeAccelerator(AcceleratorKind::Naive, scene);
         Rng rng(23);
         std::vector<Ray> rays;
         const auto onLight = [&] { return light.p0 + rng.uniform() * light.a + rng.uniform() * light.b; };

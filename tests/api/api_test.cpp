@@ -427,31 +427,37 @@ TEST(ApiRender, AnalyticShapesCarryTheirTexture) {
     }
 }
 
-TEST(ApiRender, AnImageEncoderWritesTheSameFilesAndTheSameErrors) {
-    pnb::ImageEncoder encoder;  // first: it forks, while this test has one thread
-    EXPECT_TRUE(encoder.running());
+// Whether this process has mapped OpenImageIO (read from /proc/self/maps).
+bool imageLibraryMapped() {
+    std::ifstream maps("/proc/self/maps");
+    for (std::string line; std::getline(maps, line);)
+        if (line.find("libOpenImageIO") != std::string::npos) return true;
+    return false;
+}
+
+TEST(ApiRender, TheImageLibraryLoadsInThisProcessOnTheFirstImageOnly) {
+    if (imageLibraryMapped()) GTEST_SKIP() << "an earlier test in this process loaded it (ctest runs each test alone)";
+    // Rendering into memory and writing a PFM need no image library.
     const pnb::Framebuffer image = litSphereImage(21, 2);
     const auto dir = penumbra::test::tempDir();
-    pnb::ImageOptions helped;
-    helped.encoder = &encoder;
-    helped.exposure = 1.f;
-    pnb::ImageOptions here = helped;
-    here.encoder = nullptr;
-    image.writeImage((dir / "helped.png").string(), helped);
-    image.writeImage((dir / "here.png").string(), here);
+    image.writeImage((dir / "a.pfm").string());
+    EXPECT_FALSE(imageLibraryMapped()) << "a render to memory and PFM loaded OpenImageIO";
+    // The first PNG loads it here, in this process (no helper process), and it stays.
+    pnb::ImageOptions options;
+    options.exposure = 1.f;
+    image.writeImage((dir / "a.png").string(), options);
+    EXPECT_TRUE(imageLibraryMapped());
+    image.writeImage((dir / "b.png").string(), options);
     const auto bytes = [&](const char* name) {
         std::ifstream in(dir / name, std::ios::binary);
         return std::string(std::istreambuf_iterator<char>(in), {});
     };
-    EXPECT_GT(bytes("here.png").size(), 100u);
-    EXPECT_EQ(bytes("helped.png"), bytes("here.png"));
-    std::string helpedMsg, hereMsg;
-    EXPECT_EQ(codeOf([&] { image.writeImage((dir / "missing" / "x.png").string(), helped); }, &helpedMsg),
+    EXPECT_GT(bytes("a.png").size(), 100u);
+    EXPECT_EQ(bytes("a.png"), bytes("b.png"));
+    std::string msg;
+    EXPECT_EQ(codeOf([&] { image.writeImage((dir / "missing" / "x.png").string(), options); }, &msg),
               pnb::ErrorCode::IoError);
-    EXPECT_EQ(codeOf([&] { image.writeImage((dir / "missing" / "x.png").string(), here); }, &hereMsg),
-              pnb::ErrorCode::IoError);
-    EXPECT_EQ(helpedMsg, hereMsg);
-    EXPECT_TRUE(encoder.running()) << "the helper answered every request";
+    EXPECT_NE(msg.find("x.png"), std::string::npos) << msg;
 }
 
 // ---------------------------------------------------------------- cancellation and jobs
@@ -766,9 +772,9 @@ TEST(ApiErrors, BadSettingsCamerasAndHandlesAreInvalidArguments) {
     EXPECT_EQ(codeOf([&] { renderer.renderAsync(empty, sphereCamera(), smallSettings()); }),
               pnb::ErrorCode::InvalidArgument);
     pnb::PrepareOptions po;
-    po.accelerator = "octree";
+    po.accelerator = static_cast<pnb::AcceleratorKind>(7);
     EXPECT_EQ(codeOf([&] { renderer.prepare(litSphere(), po); }, &msg), pnb::ErrorCode::InvalidArgument);
-    EXPECT_NE(msg.find("unknown accelerator 'octree'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("accelerator 7 is not an AcceleratorKind"), std::string::npos) << msg;
 }
 
 TEST(ApiErrors, HugeFramebuffersAreOutOfMemoryNotACrash) {

@@ -9,6 +9,8 @@
 #include <penumbra/penumbra.hpp>
 #include <vector>
 
+#include "support/both_accelerators.h"
+
 namespace {
 
 pnb::Renderer quietRenderer() {
@@ -149,7 +151,7 @@ ImageDiff compare(const std::vector<float>& a, const std::vector<float>& b) {
     return d;
 }
 
-class InstancedImage : public ::testing::TestWithParam<std::string> {};
+class InstancedImage : public penumbra::test::ForBothAccelerators {};
 
 // Not bit-identical, by design: an instance is intersected in its object
 // space (the ray taken there by the inverse transform) while the copy is
@@ -174,7 +176,7 @@ TEST_P(InstancedImage, InstancedAndCopiedMeshesRenderTheSameImage) {
     const auto a = renderer.render(copied, lumpyCamera(), st).rgba();
     const auto b = renderer.render(instanced, lumpyCamera(), st).rgba();
     const ImageDiff d = compare(a, b);
-    std::cout << "[instanced vs copied, " << GetParam() << "] " << d.differing << " of " << d.pixels
+    std::cout << "[instanced vs copied, " << copied.accelerator() << "] " << d.differing << " of " << d.pixels
               << " pixels differ by > 1e-3, mean abs difference " << d.meanAbs << ", max " << d.maxAbs << "\n";
     double mean = 0.0;
     for (size_t p = 0; p < a.size(); p += 4) mean += a[p];
@@ -185,8 +187,7 @@ TEST_P(InstancedImage, InstancedAndCopiedMeshesRenderTheSameImage) {
     EXPECT_LT(d.meanAbs, 1e-5);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothAccelerators, InstancedImage, ::testing::Values(std::string("naive"), std::string("embree")),
-                         [](const auto& info) { return info.param; });
+PENUMBRA_FOR_BOTH_ACCELERATORS(InstancedImage);
 
 TEST(InstanceApi, EmissiveInstancesAreLightsLikeCopies) {
     pnb::Scene s;
@@ -254,6 +255,36 @@ TEST(InstanceApi, BadInstancesAreRefusedWithTheReason) {
     EXPECT_NE(errorOf([&] { s.addInstance(p, {}, 3u); }, pnb::ErrorCode::InvalidArgument).find("material id 3"),
               std::string::npos);
     EXPECT_EQ(s.instanceCount(), 0u);
+}
+
+// Emissive instances are expanded into meshes when prepared: a scene built in
+// code that would copy more than the limit (10,001 copies of 10,000 emissive
+// triangles) is refused before a copy is made, not expanded into gigabytes.
+TEST(InstanceApi, EmissiveInstancesThatWouldCopyTooMuchAreRefused) {
+    pnb::Scene s;
+    pnb::Material lamp;
+    lamp.ke = pnb::gray(1.f);
+    const auto l = s.addMaterial(lamp);
+    std::vector<float> pos;
+    std::vector<uint32_t> idx;
+    for (uint32_t t = 0; t < 10000; ++t) {
+        const float x = float(t % 100), y = float(t / 100);
+        pos.insert(pos.end(), {x, y, 0, x + 1, y, 0, x, y + 1, 0});
+        idx.insert(idx.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    pnb::MeshDesc d;
+    d.positions = pos.data();
+    d.vertexCount = pos.size() / 3;
+    d.indices = idx.data();
+    d.triangleCount = idx.size() / 3;
+    d.material = l;
+    const pnb::PrototypeId glow = s.addPrototype("glow");
+    s.addPrototypeMesh(glow, d);
+    for (int i = 0; i < 10001; ++i) s.addInstance(glow, pnb::Matrix3x4::translate({0, 0, float(i)}));
+    pnb::Renderer renderer = quietRenderer();
+    const std::string msg = errorOf([&] { (void)renderer.prepare(s); }, pnb::ErrorCode::InvalidScene);
+    EXPECT_NE(msg.find("emissive instances"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("100010000 triangles"), std::string::npos) << msg;
 }
 
 }  // namespace

@@ -113,7 +113,7 @@ TEST(MetalRoughnessRender, BothAcceleratorsRenderTheSameImage) {
         st.width = st.height = 24;
         st.spp = 4;
         pnb::PrepareOptions embree, naive;
-        naive.accelerator = "naive";
+        naive.accelerator = pnb::AcceleratorKind::Naive;
         const pnb::Framebuffer a = r.render(r.prepare(s, embree), cam, st);
         const pnb::Framebuffer b = r.render(r.prepare(s, naive), cam, st);
         int differ = 0;

@@ -309,6 +309,63 @@ TEST_F(BadInput, ObjNonFiniteCoordinates) {
     expectFiniteImage();
 }
 
+// PLY and binary STL faces on a NaN or infinite vertex are dropped with a
+// warning naming the file, as OBJ's are; --strict makes that an error; and a
+// file of such faces only says so, not that it has no triangles.
+TEST_F(BadInput, PlyAndStlNonFiniteVerticesWarnAndFailUnderStrict) {
+    auto ply = [](int faces, const std::string& body) {
+        return "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+               "element face " + std::to_string(faces) + "\nproperty list uchar int vertex_indices\nend_header\n"
+               "-1 -1 0\n1 -1 0\nnan 1 0\n-1 1 0\n" + body;
+    };
+    write("one.ply", ply(1, "3 0 1 2\n"));
+    expectCleanFailure(run(in("one.ply") + out()), {"one.ply", "all 1 face(s) were dropped", "non-finite"});
+    write("two.ply", ply(2, "3 0 1 2\n3 0 1 3\n"));
+    auto w = expectSuccess(run(in("two.ply") + " -q --width 8 --height 8 --spp 1" + out()));
+    expectWarning(w, {"two.ply", "dropped 1 face(s)", "non-finite"});
+    expectFiniteImage();
+    expectCleanFailure(run(in("two.ply") + " --strict" + out()), {"two.ply", "1 face(s)", "non-finite"});
+
+    std::string stl(80, ' ');
+    stl += std::string("\x02\0\0\0", 4);
+    const float inf = INFINITY;
+    const float facets[2][12] = {{0, 0, 1, -1, -1, 0, 1, -1, 0, -1, 1, 0}, {0, 0, 1, -1, -1, 0, 1, -1, 0, inf, 1, 0}};
+    for (const auto& f : facets) {
+        stl.append(reinterpret_cast<const char*>(f), sizeof f);
+        stl += std::string(2, '\0');
+    }
+    write("inf.stl", stl);
+    w = expectSuccess(run(in("inf.stl") + " -q --width 8 --height 8 --spp 1" + out()));
+    expectWarning(w, {"inf.stl", "dropped 1 face(s)", "non-finite"});
+    expectCleanFailure(run(in("inf.stl") + " --strict" + out()), {"inf.stl", "1 face(s)", "non-finite"});
+}
+
+// Nesting that would overflow Assimp's stack (here a COLLADA node tree) fails
+// cleanly, naming the file.
+TEST_F(BadInput, DeeplyNestedModelFilesFailCleanly) {
+    std::string nodes;
+    for (int i = 0; i < 10000; ++i) nodes += "<node>";
+    for (int i = 0; i < 10000; ++i) nodes += "</node>";
+    write("deep.dae", R"(<?xml version="1.0"?><COLLADA version="1.4.1"><library_visual_scenes><visual_scene id="s">)" +
+                          nodes + R"(</visual_scene></library_visual_scenes></COLLADA>)");
+    expectCleanFailure(run(in("deep.dae") + out()), {"deep.dae", "nest deeper than 256"});
+}
+
+// A JSON file whose nested prototypes would copy 2^41 triangles fails quickly,
+// naming the file and the count, instead of running out of memory.
+TEST_F(BadInput, ExpansionBombFailsCleanlyAndQuickly) {
+    std::string prototypes = R"({"name": "p0", "shapes": [{"type": "mesh", "vertices": [[0,0,0],[1,0,0],[0,1,0]], "indices": [0,1,2]}]})";
+    for (int i = 1; i <= 40; ++i) {
+        const std::string below = "\"p" + std::to_string(i - 1) + "\"";
+        prototypes += ", {\"name\": \"p" + std::to_string(i) + "\", \"shapes\": [{\"type\": \"instance\", \"prototype\": " +
+                      below + "}, {\"type\": \"instance\", \"prototype\": " + below + "}]}";
+    }
+    write("bomb.json", "{\"prototypes\": [" + prototypes + "], \"shapes\": [{\"type\": \"instance\", \"prototype\": \"p40\"}]}");
+    const RunResult r = run(in("bomb.json") + out());
+    expectCleanFailure(r, {"bomb.json", "2199023255550 triangles"});
+    EXPECT_LT(r.seconds, 10.0);
+}
+
 TEST_F(BadInput, ObjMalformedNumbers) {
     // A coordinate that is not a number drops its faces (strict: an error naming the face's line).
     write("num.obj", "v 1.0.0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
@@ -723,13 +780,20 @@ TEST_F(BadOption, OutputsThatWouldOverwriteAnInputAreRefusedBeforeAnyWork) {
     expectSuccess(run(in("tex.obj") + quick + " -o " + in("other/tex.png")));
 }
 
-TEST_F(BadOption, AFailedStatisticsWriteIsAnError) {
+TEST_F(BadOption, AFailedStatisticsWriteIsAnErrorAndLeavesNoImage) {
     if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
     RunResult r = run(in("scene.obj") + " -q --width 8 --height 8 --spp 1 --stats-json /dev/full" + out());
-    EXPECT_EQ(r.exitCode, 1) << r.output;
-    auto errors = linesStartingWith(r.output, "penumbra: error: ");
-    ASSERT_EQ(errors.size(), 1u) << r.output;
-    EXPECT_NE(errors[0].find("/dev/full: cannot write statistics"), std::string::npos) << errors[0];
+    // One error line naming the file, exit code 1, and no image: the run reports failure, so it leaves no output.
+    expectCleanFailure(r, {"/dev/full: cannot write statistics"});
+}
+
+TEST_F(BadOption, AFailedImageWriteLeavesNoStatistics) {
+    // A 64x64 PFM (48 KiB) over an 8 KiB file-size limit (dash counts 512-byte
+    // blocks); the statistics (about 1 KiB) fit, and are staged before the image.
+    RunResult r = run(in("scene.obj") + " -q --width 64 --height 64 --spp 1 --stats-json " +
+                          shellQuote(outPath("stats.json").string()) + out("img.pfm"),
+                      "ulimit -f 16; ");
+    expectCleanFailure(r, {"img.pfm", "file size limit"});
 }
 
 // ------------------------------------------------------------------ command-line values (issue 13, item 9)

@@ -146,6 +146,29 @@ TEST(Cli, StatsJsonCountsRays) {
     EXPECT_GT(j["peak_memory_mib"].get<double>(), 1.0);
 }
 
+// More threads than the machine runs at once are not started: no raw TBB
+// warning, one warning of the command's own, and the summary and statistics
+// say how many threads rendered. The image is the same as on one thread.
+TEST(Cli, ThreadsAboveTheMachineRunOnAllItsThreadsAndSaySo) {
+    fs::path dir = test::tempDir();
+    fs::path scene = smallScene(dir);
+    RunResult r = runPenumbra(scene.string() + " --threads 4096 -o " + (dir / "many.exr").string() + " --stats-json " +
+                              (dir / "stats.json").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(r.output.find("TBB"), std::string::npos) << r.output;
+    std::ifstream in(dir / "stats.json");
+    const int threads = nlohmann::json::parse(in)["threads"].get<int>();
+    EXPECT_GE(threads, 1);
+    EXPECT_LT(threads, 4096);
+    EXPECT_NE(r.output.find("on " + std::to_string(threads) + " threads"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("penumbra: warning: --threads 4096: this machine runs " + std::to_string(threads) +
+                            " threads at once"),
+              std::string::npos)
+        << r.output;
+    ASSERT_EQ(runPenumbra(scene.string() + " -q --threads 1 -o " + (dir / "one.exr").string()).exitCode, 0);
+    EXPECT_EQ(readImage(dir / "many.exr").pixels, readImage(dir / "one.exr").pixels);
+}
+
 TEST(Cli, CommandLineOverridesTheSceneFile) {
     fs::path dir = test::tempDir();
     fs::path scene = smallScene(dir);

@@ -3,6 +3,7 @@
 // and the sky show L_env), the image mapping's up direction, bad files and
 // values, and the default light of scenes that have none.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <array>
@@ -189,6 +190,67 @@ TEST(Environment, UnreadableImagesAreErrorsNamingTheFile) {
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("nowhere.hdr"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("/environment/image"), std::string::npos) << r.output;
+}
+
+// A file name is a legal --env value even with commas in it: an existing file
+// wins over the colour reading, and a value with a '/' is always a file.
+TEST(Environment, FileNamesWithCommasAreFiles) {
+    const fs::path dir = test::tempDir();
+    floorScene(dir, R"({"kd": 0.5})");
+    writeSkyImage(dir / "sky,v2.exr", Rgb(1.f, 0.5f, 2.f), Rgb(1.f, 0.5f, 2.f));
+    const std::string inDir = "cd '" + dir.string() + "' && " + (test::binaryDir() / "penumbra").string();
+    auto run = [&](const std::string& args) {
+        const std::string cmd = inDir + " floor.json -q " + args + " 2>&1";
+        FILE* p = ::popen(cmd.c_str(), "r");
+        std::string out;
+        std::array<char, 4096> buf{};
+        for (size_t n; p && (n = std::fread(buf.data(), 1, buf.size(), p)) > 0;) out.append(buf.data(), n);
+        const int status = p ? ::pclose(p) : -1;
+        return RunResult{WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+    };
+    RunResult r = run("--env sky,v2.exr -o bare.exr");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("--env ./sky,v2.exr -o dotted.exr");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run("--env 1,0.5,2 -o colour.exr");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    // A uniform image of the colour lights the floor as the colour does.
+    const ImageData colour = readImage(dir / "colour.exr");
+    for (const char* name : {"bare.exr", "dotted.exr"}) {
+        const ImageData img = readImage(dir / name);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(meanOf(img, c), meanOf(colour, c), 0.03 * meanOf(colour, c)) << name;
+    }
+    // No such file: with a '/', the file's own error (exit 1); without one, not a colour either (exit 2).
+    r = run("--env ./nowhere,1.exr -o x.exr");
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("nowhere,1.exr: file not found"), std::string::npos) << r.output;
+    r = run("--env nowhere,1.exr -o x.exr");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("--env: expected r,g,b"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("(no such file)"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "x.exr"));
+}
+
+// Whatever keeps an --env file from being read, it is a file error: exit code
+// 1, one line naming the file, before the scene is loaded.
+TEST(Environment, MissingFoldersAndFifosAreAllFileErrors) {
+    const fs::path dir = test::tempDir();
+    const fs::path scene = floorScene(dir, R"({"kd": 0.5})");
+    const fs::path out = dir / "img.exr";
+    fs::create_directories(dir / "folder.exr");
+    ASSERT_EQ(::mkfifo((dir / "fifo.exr").c_str(), 0600), 0);
+    const std::pair<const char*, const char*> cases[] = {
+        {"missing.exr", "missing.exr: file not found"},
+        {"folder.exr", "folder.exr: is not a regular file (it is a directory)"},
+        {"fifo.exr", "fifo.exr: is not a regular file (it is a FIFO)"},
+    };
+    for (const auto& [name, message] : cases) {
+        const RunResult r = runPenumbra(scene.string() + " -q --env " + (dir / name).string() + " -o " + out.string());
+        EXPECT_EQ(r.exitCode, 1) << name << ": " << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+        EXPECT_EQ(r.output.find("see --help"), std::string::npos) << r.output;
+    }
+    EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Environment, BadEnvValuesAreUsageErrors) {

@@ -3,6 +3,7 @@
 // naming the file and the JSON path.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -121,6 +122,61 @@ TEST(JsonInstances, ErrorsNameTheJsonPath) {
     expectError(withPrototypes(R"({"tri": 1})", "[]"), ErrorCode::ParseError, {"/prototypes"});
     expectError(R"({"shapes": [{"type": "instance", "prototype": "x"}]})", ErrorCode::InvalidScene,
                 {"/shapes/0/prototype", "no \"prototypes\""});
+}
+
+/// Prototypes "p0" .. "pN" as a JSON list: p0 holds a triangle, each other
+/// one places the next lower `copies` times (outermost first when `outermostFirst`).
+std::string prototypeList(int levels, int copies, bool outermostFirst = false) {
+    std::vector<std::string> entries;
+    entries.push_back(std::string(R"({"name": "p0", "shapes": [)") + kTriangle + "]}");
+    for (int i = 1; i <= levels; ++i) {
+        std::string shapes;
+        for (int c = 0; c < copies; ++c)
+            shapes += std::string(c ? ", " : "") + R"({"type": "instance", "prototype": "p)" + std::to_string(i - 1) +
+                      R"(", "transform": {"translate": [)" + std::to_string(c) + ", 0, 0]}}";
+        entries.push_back(R"({"name": "p)" + std::to_string(i) + R"(", "shapes": [)" + shapes + "]}");
+    }
+    if (outermostFirst) std::reverse(entries.begin(), entries.end());
+    std::string list;
+    for (const std::string& e : entries) list += (list.empty() ? "" : ",\n") + e;
+    return "[" + list + "]";
+}
+
+/// The chain of prototypeList, its outermost prototype placed once.
+std::string prototypeChain(int levels, int copies, bool outermostFirst = false) {
+    return withPrototypes(prototypeList(levels, copies, outermostFirst),
+                          R"([{"type": "instance", "prototype": "p)" + std::to_string(levels) + "\"}]");
+}
+
+// The resolver walked 10,000 levels with 10,000 nested calls and overflowed
+// the stack; it is a loop now, so depth costs memory, not stack.
+TEST(JsonInstances, PrototypesNestedTenThousandDeepOutermostFirstLoad) {
+    const LoadedScene s = loadText(prototypeChain(10000, 1, true));
+    EXPECT_EQ(s.scene.prototypes.size(), 10001u);
+    EXPECT_EQ(s.scene.triangleCount(), 1u);
+    EXPECT_EQ(loadText(prototypeChain(10000, 1)).scene.triangleCount(), 1u);
+}
+
+// 40 levels each placing the one below twice: 2^41 - 2 triangles of copies
+// from under 8 KB of JSON, refused before any copy is made.
+TEST(JsonInstances, NestedPlacementsThatWouldCopyTooMuchAreRefusedWithTheCount) {
+    const std::string json = prototypeChain(40, 2);
+    EXPECT_LT(json.size(), 8000u);
+    expectError(json, ErrorCode::InvalidScene,
+                {"/prototypes", "2199023255550 triangles", "6597069766650 vertices", "100000000"});
+    // 2^12 triangles of copies are fine.
+    EXPECT_EQ(loadText(prototypeChain(12, 2)).scene.triangleCount(), size_t(1) << 12);
+}
+
+// Emissive instances become meshes in Scene::finalize: a JSON file's are
+// counted at load, so that the error names the file. 12,300 emissive copies
+// of 8,192 triangles pass 100 million.
+TEST(JsonInstances, EmissiveInstancesThatWouldCopyTooMuchAreRefusedAtLoad) {
+    std::string instances;
+    for (int i = 0; i < 12300; ++i)
+        instances += std::string(i ? ", " : "") + R"({"type": "instance", "prototype": "p13", "material": "lamp"})";
+    expectError(withPrototypes(prototypeList(13, 2), "[" + instances + "]"), ErrorCode::InvalidScene,
+                {"emissive instances", "100777982 triangles"});
 }
 
 TEST(JsonInstances, TheExampleSceneExpandsItsLanternsIntoLights) {

@@ -94,7 +94,8 @@ TEST(TextureCache, WrapsPeriodically) {
 
 TEST(TextureCache, WideFootprintAveragesTheTexels) {
     // An 8x8 black/white checker: a footprint as wide as the texture reads the
-    // 1x1 MIP level, the encoded average 0.5 (filtering happens before decoding).
+    // 1x1 MIP level, the average of the light, 0.5 (texels are decoded before
+    // they are averaged), within the step of the 8-bit code the level keeps.
     std::vector<unsigned char> px(8 * 8);
     for (int y = 0; y < 8; ++y)
         for (int x = 0; x < 8; ++x) px[y * 8 + x] = ((x + y) & 1) ? 255 : 0;
@@ -105,8 +106,28 @@ TEST(TextureCache, WideFootprintAveragesTheTexels) {
     Rgb sharp = cache.lookup(0, {0.5f / 8.f, 0.5f / 8.f}, 0.f);
     EXPECT_TRUE(sharp.r == 0.f || sharp.r == 1.f) << sharp.r;
     Rgb wide = cache.lookup(0, {0.3f, 0.6f}, 1.f);
-    const float half = srgbToLinear(0.5f);
-    expectRgb(wide, half, half, half, 0.01f);  // grey image: all channels equal
+    expectRgb(wide, 0.5f, 0.5f, 0.5f, 0.005f);  // grey image: all channels equal
+}
+
+TEST(TextureCache, MipLevelsAverageLinearValues) {
+    // A 2x2 RGB checker of sRGB codes 0 and 255: its coarsest level is linear
+    // 0.5 (code 188), not the decoded average code srgbToLinear(127.5 / 255) = 0.21.
+    const std::vector<unsigned char> px = {0, 0, 0, 255, 255, 255, 255, 255, 255, 0, 0, 0};
+    const fs::path png = writeImage(test::tempDir() / "checker2.png", 2, 2, 3, px, OIIO::TypeDesc::UINT8);
+    ASSERT_FALSE(png.empty());
+    Warnings w;
+    TextureCache cache(files({png.string()}), w.logger);
+    const float coarsest = srgbToLinear(188.f / 255.f);
+    EXPECT_NEAR(coarsest, 0.5f, 0.003f);
+    for (Vec2f uv : {Vec2f{0.1f, 0.2f}, Vec2f{0.5f, 0.5f}, Vec2f{0.9f, 0.7f}}) {
+        expectRgb(cache.lookup(0, uv, 4.f), coarsest, coarsest, coarsest, 1e-6f);
+        TextureRef ref;
+        ref.texture = 0;
+        expectRgb(cache.sample(ref, uv, 4.f).rgb, coarsest, coarsest, coarsest, 1e-6f);
+    }
+    // Bilinear blends between texels are blends of light too: halfway between
+    // a black and a white texel (v up: the top row is black, white).
+    expectRgb(cache.lookup(0, {0.5f, 0.75f}, 0.f), 0.5f, 0.5f, 0.5f, 1e-6f);
 }
 
 TEST(TextureCache, FloatImagesStayLinear) {

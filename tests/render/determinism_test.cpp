@@ -268,7 +268,7 @@ TEST_P(GlassDeterminism, EmbreeAndNaiveAgree) {
     s.materials.push_back(glass);
     s.spheres.push_back(Sphere{Vec3f{0.4f, 1.3f, 0.6f}, 0.35f, uint32_t(s.materials.size() - 1)});
     PrepareOptions naive;
-    naive.accelerator = "naive";
+    naive.accelerator = AcceleratorKind::Naive;
     const PreparedScene withNaive(s, naive, quietLogger());
     const RenderSettings st = settings();
     Film b = makeFilm(st);

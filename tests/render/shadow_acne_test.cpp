@@ -36,7 +36,7 @@ PixelStats stats(const Film& f) {
 // every axis) around `centre`, lit by a directional light; the camera looks
 // straight at it so every pixel sees the plane. With no occluder the radiance
 // is the same everywhere: kd/pi * E * cos.
-Film renderPlane(const Vec3f& centre, ShapeKind kind, const std::string& accelerator) {
+Film renderPlane(const Vec3f& centre, ShapeKind kind, AcceleratorKind accelerator) {
     Scene s;
     Material m;
     m.kd = Rgb(0.8f);

@@ -57,7 +57,7 @@ std::vector<Material> materials() {
 
 TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
     const Scene scene = litScene();
-    const auto accel = makeAccelerator("embree", scene);
+    const auto accel = makeAccelerator(AcceleratorKind::Embree, scene);
     const ShapeAreaLight light(scene, ShapeAreaLight::Kind::Rectangle, 0);
     const std::vector<Material> ms = materials();
     constexpr int W = ShadowLanes::kWidth;

@@ -171,8 +171,10 @@ typedef struct pnb_load_options {
 
 typedef enum pnb_build_quality { PNB_BUILD_LOW = 0, PNB_BUILD_MEDIUM = 1, PNB_BUILD_HIGH = 2 } pnb_build_quality;
 
+typedef enum pnb_accelerator { PNB_ACCEL_EMBREE = 0, PNB_ACCEL_NAIVE = 1 } pnb_accelerator;
+
 typedef struct pnb_prepare_options {
-    const char* accelerator; /* "embree" (default when NULL) or "naive" */
+    pnb_accelerator accelerator; /* PNB_ACCEL_EMBREE (default) or PNB_ACCEL_NAIVE, the O(N) reference */
     pnb_build_quality quality;
 } pnb_prepare_options;
 

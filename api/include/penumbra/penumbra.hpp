@@ -219,7 +219,7 @@ private:
 // ---------------------------------------------------------------- prepared scene
 
 struct PrepareOptions {
-    std::string accelerator = "embree";  ///< "embree" or "naive" (the O(N) reference)
+    AcceleratorKind accelerator = AcceleratorKind::Embree;
     BuildQuality quality = BuildQuality::High;
 };
 
@@ -265,37 +265,10 @@ private:
 
 // ---------------------------------------------------------------- framebuffer
 
-/// A helper process that loads the image libraries (OpenImageIO: about 260
-/// shared libraries, some 0.2 s of CPU) while this process renders, and then
-/// encodes the images of the writeImage calls given it (ImageOptions::encoder).
-/// For programs whose renders are short next to that load, such as the
-/// command-line renderer. The file itself is still written by this process,
-/// as without it; if the helper fails or dies, images are encoded here
-/// instead. It forks: create it while the process has one thread (before any
-/// render, and before the program starts threads of its own). Not
-/// thread-safe: one writeImage with it at a time. Linux only.
-class PENUMBRA_API ImageEncoder {
-public:
-    /// Starts the helper (where the process cannot be started, running() is false).
-    ImageEncoder();
-    /// Ends the helper.
-    ~ImageEncoder();
-    ImageEncoder(const ImageEncoder&) = delete;
-    ImageEncoder& operator=(const ImageEncoder&) = delete;
-    /// Whether the helper still answers (false: images are encoded in this process).
-    bool running() const noexcept;
-
-private:
-    struct Impl;
-    std::unique_ptr<Impl> impl_;
-    friend struct detail::Access;
-};
-
 /// How Framebuffer::writeImage writes.
 struct ImageOptions {
     float exposure = 0.f;  ///< stops; PNG/JPG/TIF only (float formats get the values as computed)
     bool aovs = false;     ///< EXR: extra channels; other formats: a sibling <stem>.aovs.exr
-    ImageEncoder* encoder = nullptr;  ///< encode in this helper process; null: in this process
 };
 
 /// Accumulated samples of one render window (the crop window, or the whole

@@ -91,7 +91,7 @@ struct Camera {
 enum class PhongModel {
     /// f = kd/pi + ks (n+2)/(2 pi) cos^n: energy-conserving when kd + ks <= 1.
     Normalized,
-    /// The lecture's empirical L = ka La + sum kd Lj (n.l) + ks Lj (v.r)^n.
+    /// The classic empirical model L = ka La + sum kd Lj (n.l) + ks Lj (v.r)^n (not energy-conserving).
     Classic,
 };
 
@@ -200,7 +200,7 @@ constexpr bool operator!=(const CropWindow& a, const CropWindow& b) { return !(a
 
 /// How radiance is estimated (docs/rendering.md).
 enum class IntegratorKind {
-    Whitted,  ///< direct light + ambient + mirror and refracted rays (the lecture's model)
+    Whitted,  ///< direct light + ambient + mirror and refracted rays (Whitted-style ray tracing)
     Path,     ///< path tracing: indirect light, next-event estimation with MIS, Russian roulette
 };
 
@@ -225,7 +225,7 @@ struct RenderSettings {
     int lightSamples = 4;   ///< area-light samples per light per shading point (stratified)
     int maxDepth = 10;      ///< whitted: mirror/refraction bounces (0 = none); path: path length in bounces
     std::uint64_t seed = 0;
-    int threads = 0;        ///< 0 = all cores; each render runs in its own TBB arena
+    int threads = 0;        ///< 0 = all cores; more run as all cores (RenderStats::threads); a TBB arena per render
     int tileSize = 16;
     std::optional<CropWindow> crop;
     LightSelection lightSelection = LightSelection::All;
@@ -235,6 +235,11 @@ struct RenderSettings {
     IntegratorKind integrator = IntegratorKind::Whitted;
     DirectLightSampling directLight = DirectLightSampling::Mis;
 };
+
+/// The window a render covers: the crop window, or the whole frame.
+inline CropWindow renderWindow(const RenderSettings& s) {
+    return s.crop ? *s.crop : CropWindow{0, 0, s.width, s.height};
+}
 
 // ---------------------------------------------------------------- rendering
 
@@ -246,7 +251,7 @@ struct RenderStats {
     double renderSeconds = 0.0;
     double mraysPerSecond = 0.0;
     std::uint32_t samplesPerPixel = 0;   ///< in the framebuffer after the call
-    int threads = 0;
+    int threads = 0;                     ///< threads the render ran on
     std::uint64_t transmissionRays = 0;  ///< refracted rays through dielectrics (both integrators)
     std::uint64_t indirectRays = 0;      ///< path: diffuse and glossy bounce rays
     /// Path lengths: rays traced along each camera sample's path (camera ray included;
@@ -269,6 +274,12 @@ struct RenderStats {
 };
 
 // ---------------------------------------------------------------- preparing
+
+/// The structure that answers a prepared scene's ray queries.
+enum class AcceleratorKind {
+    Embree,  ///< Embree's BVH (the default)
+    Naive,   ///< every primitive tested for every ray: the O(N) reference
+};
 
 enum class BuildQuality { Low, Medium, High };
 

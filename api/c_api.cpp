@@ -107,6 +107,27 @@ const char* pnb_scene_last_error(const pnb_scene* scene) { return scene ? scene-
 
 namespace {
 
+// The metal-roughness fields and the texture slots of a C material.
+void readMetalRoughness(const pnb_material& c, pnb::Material& m) {
+    const int kind = rawEnum(c.kind);
+    if (kind != PNB_MATERIAL_PHONG && kind != PNB_MATERIAL_METAL_ROUGHNESS)
+        throw pnb::Error(pnb::ErrorCode::InvalidArgument, "material kind " + std::to_string(kind) + " is not a pnb_material_kind");
+    m.kind = kind == PNB_MATERIAL_METAL_ROUGHNESS ? pnb::MaterialKind::MetalRoughness : pnb::MaterialKind::Phong;
+    m.baseColor = in(c.base_color);
+    m.metallic = c.metallic;
+    m.roughness = c.roughness;
+    m.transmission = c.transmission;
+    m.normalScale = c.normal_scale;
+    if (c.base_color_texture) m.baseColorTexture.path = c.base_color_texture;
+    if (c.metallic_roughness_texture) {
+        m.metallicTexture.path = m.roughnessTexture.path = c.metallic_roughness_texture;
+        m.metallicTexture.channel = 2;
+        m.roughnessTexture.channel = 1;
+    }
+    if (c.normal_texture) m.normalTexture.path = c.normal_texture;
+    if (c.emissive_texture) m.emissiveTexture.path = c.emissive_texture;
+}
+
 // The C material as the C++ one (values are checked where it is used).
 pnb::Material materialIn(const pnb_material& material) {
     pnb::Material m;
@@ -126,6 +147,7 @@ pnb::Material materialIn(const pnb_material& material) {
     if (material.diffuse_texture) m.diffuseTexture = material.diffuse_texture;
     m.kt = in(material.kt);
     m.ior = material.ior;
+    readMetalRoughness(material, m);
     return m;
 }
 

@@ -24,6 +24,8 @@ PNB_SAME_VALUE(PNB_LOG_WARNING, pnb::LogLevel::Warning);
 PNB_SAME_VALUE(PNB_LOG_ERROR, pnb::LogLevel::Error);
 PNB_SAME_VALUE(PNB_PHONG_NORMALIZED, pnb::PhongModel::Normalized);
 PNB_SAME_VALUE(PNB_PHONG_CLASSIC, pnb::PhongModel::Classic);
+PNB_SAME_VALUE(PNB_MATERIAL_PHONG, pnb::MaterialKind::Phong);
+PNB_SAME_VALUE(PNB_MATERIAL_METAL_ROUGHNESS, pnb::MaterialKind::MetalRoughness);
 PNB_SAME_VALUE(PNB_LIGHTS_ALL, pnb::LightSelection::All);
 PNB_SAME_VALUE(PNB_LIGHTS_POWER, pnb::LightSelection::Power);
 PNB_SAME_VALUE(PNB_LIGHTS_TREE, pnb::LightSelection::Tree);
@@ -177,6 +179,7 @@ pnb_render_stats out(const pnb::RenderStats& s) {
     r.threads = s.threads;
     r.transmission_rays = s.transmissionRays;
     r.brdf_rays = s.brdfRays;
+    r.pixels_hit = s.pixelsHit;
     r.indirect_rays = s.indirectRays;
     r.path_length_sum = s.pathLengthSum;
     r.path_length_max = s.pathLengthMax;
@@ -206,6 +209,13 @@ void pnb_material_init(pnb_material* m) {
     m->diffuse_texture = nullptr;
     m->kt = out(d.kt);
     m->ior = d.ior;
+    m->kind = PNB_MATERIAL_PHONG;
+    m->base_color = out(d.baseColor);
+    m->metallic = d.metallic;
+    m->roughness = d.roughness;
+    m->transmission = d.transmission;
+    m->base_color_texture = m->metallic_roughness_texture = m->normal_texture = m->emissive_texture = nullptr;
+    m->normal_scale = d.normalScale;
 }
 
 void pnb_mesh_desc_init(pnb_mesh_desc* mesh) {

@@ -126,8 +126,8 @@ pn::Material checkedMaterial(const Material& m, const TextureBinder& texture) {
     require(std::isfinite(m.ior) && m.ior > 0.f, what + ": ior must be finite and > 0");
     if (auto problem = pn::materialProblem(m)) fail(ErrorCode::InvalidArgument, what + ": " + *problem);
     pn::Material pm{m};
-    // Until the renderer shades metal-roughness, its Phong terms approximate it (as loaders do).
-    if (pm.kind == MaterialKind::MetalRoughness) pn::approximateWithPhong(pm);
+    // Transmission is the smooth dielectric's (core/material.h), as loaders make it.
+    if (pm.kind == MaterialKind::MetalRoughness) pn::mapTransmissionOntoGlass(pm);
     pn::bindTextures(pm, texture);
     return pm;
 }

@@ -30,28 +30,16 @@ bool Material::needsUv1() const {
     return false;
 }
 
-void approximateWithPhong(Material& m) {
-    const Rgb base = m.baseColor;
-    const float metal = m.metallic, rough = m.roughness;
-    const float transmitted = m.transmission * (1.f - metal);
-    const Rgb f0 = Rgb(0.04f * (1.f - metal)) + metal * base;
-    m.kd = (1.f - metal) * (1.f - transmitted) * (1.f - 0.04f) * base;
-    m.ka = Rgb(0.f);
-    m.ks = m.kr = Rgb(0.f);
-    if (rough <= 0.05f) {
-        m.kr = f0;  // polished: a mirror of colour F0
-        m.exponent = 1.f;
-    } else {
-        const float alpha = rough * rough;
-        const float blinn = 2.f / (alpha * alpha) - 2.f;
-        m.ks = f0;
-        m.exponent = std::clamp(blinn / 4.f, 1.f, 10000.f);
-    }
+void mapTransmissionOntoGlass(Material& m) {
+    const float transmitted = m.transmission * (1.f - m.metallic);
+    m.ka = m.ks = m.kr = Rgb(0.f);
     if (transmitted > 0.f) {
-        // The existing smooth dielectric: Fresnel replaces the mirror term.
-        m.kt = transmitted * base;
-        m.kr = m.ks = Rgb(0.f);
+        // The non-metal, non-transmitted share of the base less the dielectric's 4% specular is
+        // diffuse; the smooth dielectric's Fresnel gives the specular part.
+        m.kd = (1.f - m.metallic) * (1.f - transmitted) * (1.f - 0.04f) * Rgb(m.baseColor);
+        m.kt = transmitted * Rgb(m.baseColor);
     } else {
+        m.kd = Rgb(m.baseColor);  // what the albedo AOV of a metal-roughness point shows too
         m.kt = Rgb(0.f);
     }
 }

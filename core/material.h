@@ -65,15 +65,20 @@ struct Material : pnb::Material {
     }
     bool needsUv1() const;
     bool needsTangents() const { return normalMap.used(); }
+    /// Shaded by the metal-roughness BSDF (shading/bsdf/metal_roughness.h):
+    /// the model, unless transmission made it glass (mapTransmissionOntoGlass).
+    bool shadedAsMetalRoughness() const { return kind == MaterialKind::MetalRoughness && !isDielectric(); }
 };
 
-/// Fills the Phong terms of a metal-roughness material with the approximation
-/// loaders use until the renderer shades metal-roughness itself: the diffuse
-/// part is the non-metal share of the base colour less the dielectric's 4%
-/// specular; F0 (4% for dielectrics, the base colour for metals) becomes ks
-/// with the Phong exponent of the same Beckmann-like width, or a mirror (kr)
-/// when polished; transmission becomes glass (kt). Emission is left as it is.
-void approximateWithPhong(Material& m);
+/// A glTF-style metal-roughness material's transmission
+/// (KHR_materials_transmission) as the renderer's smooth dielectric: where
+/// transmission * (1 - metallic) > 0 the Phong terms become that glass (kt,
+/// the transmitted share of the base colour, refracting with ior) over a
+/// diffuse kd (the rest of the non-metal share less 4%), and the material is
+/// shaded as those terms; otherwise they hold no ambient, glossy, mirror or
+/// glass term (the metal-roughness BSDF shades it) and kd is the base colour.
+/// Emission is left as it is.
+void mapTransmissionOntoGlass(Material& m);
 
 /// Resolves a material's texture paths (diffuseTexture and every slot's) to
 /// Scene::textures indices through `texture`, which gets each non-empty path

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 
+#include "core/emission.h"
 #include "core/lane_clones.h"
 #include "core/sampling.h"
 #include "lights/light_lanes.h"
@@ -357,8 +358,16 @@ std::optional<LightBounds> ShapeAreaLight::bounds() const {
     return b;
 }
 
-MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles) {
+MeshAreaLight::MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles,
+                             const TextureCache* textures) {
     Le_ = scene.materials[material].ke;
+    meanLe_ = Le_;
+    if (texturedEmission(scene.materials[material], textures) && !scene.meshes[mesh].uvs.empty()) {
+        material_ = &scene.materials[material];
+        mesh_ = &scene.meshes[mesh];
+        textures_ = textures;
+        meanLe_ = meanEmittedRadiance(*material_, textures);
+    }
     twoSided_ = scene.materials[material].twoSidedEmission;
     const TriangleMesh& m = scene.meshes[mesh];
     std::sort(triangles.begin(), triangles.end());
@@ -441,11 +450,34 @@ std::optional<LightSample> MeshAreaLight::sampleTriangle(size_t i, const Vec3f& 
         const auto s = sampleSphericalTriangle(p, t.p0, t.p0 + t.e1, t.p0 + t.e2, u);
         if (!s) return std::nullopt;
         // pdf = P(triangle) / its solid angle.
-        return solidAngleSample(p, s->point, omega / share, Le_);
+        return textured(i, solidAngleSample(p, s->point, omega / share, Le_));
     }
     const Vec2f b = squareToTriangle(u);
     const SurfaceSample s{t.p0 + b.x * t.e1 + b.y * t.e2, t.n, share / triangleArea(i)};
-    return areaLightSample(p, s, Le_, twoSided_);
+    return textured(i, areaLightSample(p, s, Le_, twoSided_));
+}
+
+std::optional<LightSample> MeshAreaLight::textured(size_t i, std::optional<LightSample> s) const {
+    if (!textures_ || !s) return s;
+    // The sample's barycentrics in its triangle, then its texture coordinates.
+    const Triangle& t = triangles_[i];
+    const Vec3f d = s->point - t.p0;
+    const float d11 = dot(t.e1, t.e1), d12 = dot(t.e1, t.e2), d22 = dot(t.e2, t.e2);
+    const float dd1 = dot(d, t.e1), dd2 = dot(d, t.e2);
+    const float det = d11 * d22 - d12 * d12;
+    if (!(det > 0.f)) return s;
+    const float b1 = std::clamp((d22 * dd1 - d12 * dd2) / det, 0.f, 1.f);
+    const float b2 = std::clamp((d11 * dd2 - d12 * dd1) / det, 0.f, 1.f - b1);
+    const uint32_t* idx = &mesh_->indices[3 * size_t(meshTriangles_[i])];
+    const auto at = [&](const std::vector<Vec2f>& uvs) {
+        if (uvs.empty()) return Vec2f{};
+        const Vec2f a = uvs[idx[0]], b = uvs[idx[1]], c = uvs[idx[2]];
+        const float b0 = 1.f - b1 - b2;
+        return Vec2f{b0 * a.x + b1 * b.x + b2 * c.x, b0 * a.y + b1 * b.y + b2 * c.y};
+    };
+    const Vec2f uv0 = at(mesh_->uvs);
+    s->L = emittedRadiance(*material_, textures_, uv0, mesh_->uvs1.empty() ? uv0 : at(mesh_->uvs1));
+    return s;
 }
 
 float MeshAreaLight::trianglePdf(size_t i, const Vec3f& p, const Vec3f& point, float share, float omega) const {
@@ -498,7 +530,7 @@ std::optional<LightSample> MeshAreaLight::sampleArea(const Vec3f& p, Vec2f u) co
     const Triangle& t = triangles_[i];
     const Vec2f b = squareToTriangle(u);
     const SurfaceSample s{t.p0 + b.x * t.e1 + b.y * t.e2, t.n, 1.f / totalArea_};
-    return areaLightSample(p, s, Le_, twoSided_);
+    return textured(i, areaLightSample(p, s, Le_, twoSided_));
 }
 
 bool MeshAreaLight::mayReach(const Vec3f& p, const Vec3f& n) const {
@@ -517,7 +549,7 @@ PENUMBRA_LANE_CLONES void MeshAreaLight::reachLanes(const LanePoints& at, int n,
 
 void MeshAreaLight::sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                                 LightLanes& out) const {
-    if (triangles_.size() <= kSolidAnglePickMax) {
+    if (triangles_.size() <= kSolidAnglePickMax && !textures_) {
         smallMeshSampleLanes(at, ux, uy, want, n, out);
     } else {
         Light::sampleLanes(at, ux, uy, want, n, out);
@@ -610,7 +642,7 @@ PENUMBRA_LANE_CLONES void MeshAreaLight::smallMeshSampleLanes(const LanePoints& 
         if (near[l]) out.set(l, sample(at.p(l), Vec2f{ux[l], uy[l]}));
 }
 
-double MeshAreaLight::power() const { return channelMean(Le_) * double(totalArea_) * kPi * (twoSided_ ? 2.0 : 1.0); }
+double MeshAreaLight::power() const { return channelMean(meanLe_) * double(totalArea_) * kPi * (twoSided_ ? 2.0 : 1.0); }
 
 std::optional<LightBounds> MeshAreaLight::bounds() const {
     // The cone about the triangles' mean normal through the farthest normal

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "core/texture_cache.h"
 #include "lights/light.h"
 #include "lights/spherical_cap.h"
 #include "lights/spherical_rectangle.h"
@@ -99,7 +100,11 @@ class MeshAreaLight final : public Light {
 public:
     static constexpr size_t kSolidAnglePickMax = 16;
 
-    MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles);
+    /// Where the material's emission is textured (core/emission.h) and the
+    /// mesh has texture coordinates, each sample carries the texture at its
+    /// point; power() takes the texture's mean. `textures` may be null.
+    MeshAreaLight(const Scene& scene, uint32_t mesh, uint32_t material, std::vector<uint32_t> triangles,
+                  const TextureCache* textures = nullptr);
     std::optional<LightSample> sample(const Vec3f& p, Vec2f u) const override;
     float pdf(const Vec3f& p, const Hit& onLight) const override;
     std::optional<LightSample> sampleArea(const Vec3f& p, Vec2f u) const override;
@@ -136,8 +141,16 @@ private:
     void smallMeshSampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                               LightLanes& out) const;
 
+    /// s with its radiance read from the emissive texture at its point of triangle i, where the emission is textured.
+    std::optional<LightSample> textured(size_t i, std::optional<LightSample> s) const;
+
     Rgb Le_;
+    Rgb meanLe_;  // Le_ averaged over the emissive texture (Le_ where there is none)
     bool twoSided_;
+    // A textured emitter: its material, mesh and the textures (all null otherwise).
+    const Material* material_ = nullptr;
+    const TriangleMesh* mesh_ = nullptr;
+    const TextureCache* textures_ = nullptr;
     std::vector<Triangle> triangles_;
     std::vector<uint32_t> meshTriangles_;  // the mesh's triangle index of each, ascending
     std::vector<float> cdf_;  // cumulative areas, cdf_[i] = sum of areas of triangles [0, i]

@@ -30,7 +30,8 @@ void addShapeLights(const Scene& scene, const std::vector<Shape>& shapes, ShapeA
 
 }  // namespace
 
-LightSet::LightSet(const Scene& scene, RgbImage environmentImage) : scene_(scene) {
+LightSet::LightSet(const Scene& scene, RgbImage environmentImage, const TextureCache* textures)
+    : scene_(scene), textures_(textures) {
     // Area lights first (rectangles, disks, spheres, then each mesh's emissive
     // materials), then point, directional and environment lights.
     addShapeLights(scene, scene.rectangles, ShapeAreaLight::Kind::Rectangle, lights_, rectangleLight_, totalArea_);
@@ -61,7 +62,7 @@ void LightSet::addMeshLights() {
             if (triangleArea(p0, p1, p2) > 0.f) byMaterial[mat].push_back(t);
         }
         for (auto& [mat, tris] : byMaterial) {
-            auto l = std::make_unique<MeshAreaLight>(scene_, m, mat, std::move(tris));
+            auto l = std::make_unique<MeshAreaLight>(scene_, m, mat, std::move(tris), textures_);
             if (!(l->area() > 0.f)) continue;
             meshLights_[m].emplace_back(mat, uint32_t(lights_.size()));
             totalArea_ += l->area();

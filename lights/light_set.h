@@ -18,6 +18,8 @@
 
 namespace penumbra {
 
+class TextureCache;
+
 class EnvironmentLight;
 
 class LightSet {
@@ -26,10 +28,14 @@ public:
     /// When scene.environment names an image, `environmentImage` holds its
     /// decoded pixels (the caller reads the file: PreparedScene); an environment
     /// with an image but no pixels here throws Error(InvalidArgument).
-    explicit LightSet(const Scene& scene, RgbImage environmentImage = {});
+    /// `textures` (may be null) are the scene's decoded textures: emissive
+    /// meshes with an emissive texture emit it (core/emission.h).
+    explicit LightSet(const Scene& scene, RgbImage environmentImage = {}, const TextureCache* textures = nullptr);
     ~LightSet();
 
     size_t size() const { return lights_.size(); }
+    /// The textures emission is read from (null: none).
+    const TextureCache* textures() const { return textures_; }
     const Light& operator[](size_t i) const { return *lights_[i]; }
 
     /// Selection of lights in proportion to their power (Light::power).
@@ -108,6 +114,7 @@ private:
     void addDeltaAndEnvironmentLights(RgbImage environmentImage);
 
     const Scene& scene_;
+    const TextureCache* textures_;
     std::vector<std::unique_ptr<Light>> lights_;
     // Every area-light primitive, light by light; emitters_[i]: light i's
     // range of them (area lights come first among the lights).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/emission.h"
 #include "core/lane_clones.h"
 #include "core/scratch_array.h"
 #include "lights/environment_light.h"
@@ -29,13 +30,11 @@ constexpr uint32_t kMinWindowedBsdfSamples = 6;
 // Solid angle (sr) from which a light counts as large for a Lambertian point.
 constexpr float kLargeLightSolidAngle = 1.f;
 
-// The solid angle (sr) from which a light counts as large for a Phong point
+// The solid angle (sr) from which a light counts as large for a glossy point
 // (takesBsdfSamples); out of line, so that the Lambertian points' code (the
 // textbook scenes' hot path) stays small.
 [[gnu::noinline]] float glossyLargeLightSolidAngle(const ShadingPoint& sp) {
-    const float pd = phongDiffuseProbability(*sp.material, sp.kd);
-    const float piPeak = pd + (1.f - pd) * 0.5f * (sp.material->exponent + 1.f);  // pi times the pdf's peak
-    return kLargeLightSolidAngle / piPeak;
+    return kLargeLightSolidAngle / bsdfPiPeakPdf(sp);
 }
 
 // Whether each of the first n shading points also takes BSDF samples under
@@ -502,7 +501,7 @@ private:
                                const Rgb& weight, float bsdfPdf) const {
         const Material& m = owner_.scene_.material(hit.material);
         if (!m.isEmissive() || !(dot(d, hit.ng) < 0.f || m.twoSidedEmission)) return std::nullopt;
-        return weight * Rgb(m.ke) * owner_.bsdfSampleWeight(light, lights_[light].pdf(p, hit), nBsdf_, bsdfPdf, p, n);
+        return weight * emittedRadiance(owner_.scene_, lights_.textures(), m, hit) * owner_.bsdfSampleWeight(light, lights_[light].pdf(p, hit), nBsdf_, bsdfPdf, p, n);
     }
 
     // What an escaped ray in direction d adds (the environment is the set's last light).

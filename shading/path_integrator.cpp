@@ -56,7 +56,7 @@ void PathIntegrator::shadeVertices(std::span<PathVertexLane> lanes, std::span<ui
         if (lane.sp.emits()) {
             const float w =
                 lane.specular ? 1.f : direct_.emitterHitWeight(hit, 1.f, lane.bsdfPdf, lane.prevP, lane.prevN);
-            lane.L += lane.throughput * lane.sp.material->ke * w;
+            lane.L += lane.throughput * surfaces_.emission(hit, lane.sp) * w;
         }
         if (depth == 0 && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};
         // The path's length limit: --max-depth scattering events (1 = direct light only).

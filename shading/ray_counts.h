@@ -18,6 +18,7 @@ struct RayCounts {
     uint64_t pathLengthSum = 0;  // rays along each camera sample's path (whitted: deepest branch)
     uint32_t pathLengthMax = 0;
     uint64_t brdf = 0;           // BSDF-sampled rays of direct light under MIS (whitted)
+    uint64_t pixelsHit = 0;      // pixels whose first camera sample of the pass hit a surface
     RayCounts& operator+=(const RayCounts& o) {
         camera += o.camera;
         shadow += o.shadow;
@@ -28,6 +29,7 @@ struct RayCounts {
         pathLengthSum += o.pathLengthSum;
         pathLengthMax = pathLengthMax > o.pathLengthMax ? pathLengthMax : o.pathLengthMax;
         brdf += o.brdf;
+        pixelsHit += o.pixelsHit;
         return *this;
     }
     uint64_t total() const { return camera + shadow + reflection + transmission + indirect + brdf; }

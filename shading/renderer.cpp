@@ -53,10 +53,10 @@ PreparedScene::PreparedScene(Scene sceneIn, const PrepareOptions& options, const
     if (scene->environment && !scene->environment->image.empty())
         environmentImage = readEnvironmentImage(*scene->environment, log);
     scene_ = buffers_ = scene;
-    buildLights(std::move(environmentImage));
     // Textures are read from the files the loader opened right after its path check (never
     // reopened by name: a file swapped in since then is not read) or from their bytes.
     if (!scene_->textures.empty()) textures_ = std::make_shared<const TextureCache>(scene_->textures, log);
+    buildLights(std::move(environmentImage));
     buildSeconds_ = secondsSince(t0);
 }
 
@@ -89,7 +89,8 @@ void PreparedScene::addDefaultLightIfDark(Scene& scene, const Logger& log) {
 }
 
 void PreparedScene::buildLights(RgbImage environmentImage) {
-    lights_ = std::make_unique<LightSet>(*scene_, std::move(environmentImage));
+    // Emissive textures light the scene as they are seen (core/emission.h).
+    lights_ = std::make_unique<LightSet>(*scene_, std::move(environmentImage), textures_.get());
 }
 
 PreparedScene::~PreparedScene() = default;
@@ -208,6 +209,9 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
         for (size_t i = 0; i < count; ++i) keys[i] = SampleKey{pixelKey[i], s};
         c.camera.generateRayLanes(filmX, filmY, c.useLens ? lens : nullptr, int(count), rayLanes);
         c.prepared.accelerator().intersectLanes(rayLanes, std::span<std::optional<Hit>>(hits.data(), count), rays);
+        // The share of pixels that see a surface, from one sample each: enough for the CLI's empty-image warning.
+        if (s == c.firstSample)
+            for (size_t i = 0; i < count; ++i) counts.pixelsHit += hits[i].has_value() ? 1 : 0;
         const std::span<FirstHit> firstHits = aovs ? std::span<FirstHit>(first, count) : std::span<FirstHit>();
         c.integrator.radianceBatch(std::span<const Ray>(rays, count),
                                    std::span<const std::optional<Hit>>(hits.data(), count),
@@ -298,6 +302,7 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     stats.transmissionRays = total.transmission;
     stats.indirectRays = total.indirect;
     stats.brdfRays = total.brdf;
+    stats.pixelsHit = total.pixelsHit;
     stats.pathLengthSum = total.pathLengthSum;
     stats.pathLengthMax = total.pathLengthMax;
     stats.invalidRays = prepared.accelerator().invalidRayCount() - invalidBefore;

@@ -9,21 +9,33 @@
 #include "core/scratch_array.h"
 #include "lights/light_selection.h"
 #include "shading/bsdf/dielectric.h"
+#include "shading/bsdf/metal_roughness.h"
 #include "shading/bsdf/mirror.h"
 
 namespace penumbra {
 
 WhittedIntegrator::WhittedIntegrator(const IntegratorInputs& in)
     : Integrator(in.accel), scene_(in.scene), settings_(in.settings),
-      surfaces_(in.scene, in.textures, in.pixelSpread),
+      surfaces_(in.scene, in.textures, in.pixelSpread, kMirrorRoughness),
       direct_(in.scene, in.accel, in.lights,
               DirectLight::Options{in.settings.lightSamples, resolvedLightSelection(in.settings, in.lights.size()),
                                    in.settings.directLight == DirectLightSampling::Mis ? DirectLight::BsdfSamples::Own
                                                                                        : DirectLight::BsdfSamples::None,
                                    in.internal.areaLightSamples}) {
-    for (const Material& m : in.scene.materials) continues_ |= m.isMirror() || m.isDielectric();
+    for (const Material& m : in.scene.materials)
+        continues_ |= m.isMirror() || m.isDielectric() || m.kind == MaterialKind::MetalRoughness;
     continues_ &= settings_.maxDepth > 0;
 }
+
+namespace {
+
+// The reflectance of a mirror bounce: kr, or a polished metal-roughness
+// surface's specular lobe, which the bounce stands in for.
+Rgb mirrorWeight(const ShadingPoint& sp) {
+    return sp.mirrorSpecular ? metalRoughnessMirrorWeight(sp) : Rgb(sp.material->kr);
+}
+
+}  // namespace
 
 /// A ray one lane still has to trace (the transmitted branch of a dielectric).
 struct PendingRay {
@@ -113,7 +125,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             lane.pathLength += hit.t;
             surfaces_.shade(hit, lane.ray, lane.pathLength, lane.sp);
             const Material& m = *lane.sp.material;
-            if (lane.sp.emits()) lane.L += lane.throughput * m.ke;
+            if (lane.sp.emits()) lane.L += lane.throughput * surfaces_.emission(hit, lane.sp);
             if (first && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};
             lane.L += lane.throughput * (m.ka * scene_.ambient);
         }
@@ -220,8 +232,8 @@ bool WhittedIntegrator::continueLane(PathLane& lane, RayCounts& counts) const {
         ++counts.reflection;
         return true;
     }
-    if (!m.isMirror()) return false;
-    lane.throughput *= m.kr;
+    if (!lane.sp.mirrors()) return false;
+    lane.throughput *= mirrorWeight(lane.sp);
     if (lane.throughput.isBlack()) return false;
     lane.ray = spawnRay(lane.sp.p, lane.sp.ng, mirrorDirection(lane.sp.wo, lane.sp.ns, lane.sp.ng));
     ++lane.depth;
@@ -241,8 +253,8 @@ bool WhittedIntegrator::continueSampled(PathLane& lane, RayCounts& counts) const
         lane.throughput *= s.weight;
         wi = s.wi;
         transmitted = s.transmitted;
-    } else if (m.isMirror()) {
-        lane.throughput *= m.kr;
+    } else if (lane.sp.mirrors()) {
+        lane.throughput *= mirrorWeight(lane.sp);
         wi = mirrorDirection(lane.sp.wo, lane.sp.ns, lane.sp.ng);
     } else {
         return false;

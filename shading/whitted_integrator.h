@@ -1,5 +1,6 @@
 // Whitted-style integrator: emission + ambient + Monte Carlo direct lighting
-// from every light at each hit, plus perfect mirror reflection and, at
+// from every light at each hit, plus perfect mirror reflection (kr, or the
+// specular lobe of a polished metal-roughness surface: kMirrorRoughness) and, at
 // dielectrics, Whitted's transmitted ray beside the mirror ray (Fresnel
 // weights), carried iteratively with a throughput: each lane follows one ray
 // and keeps the other branches on a small stack of its own (no recursion, so
@@ -35,6 +36,12 @@ public:
     /// below this survives Russian roulette with probability (that
     /// component / this) and then carries it.
     static constexpr float kRouletteThroughput = 1.f / 16.f;
+    /// Metal-roughness surfaces at or below this roughness reflect their
+    /// specular lobe as a mirror bounce (weighted by its Fresnel reflectance,
+    /// shading/bsdf/metal_roughness.h), which shows what they reflect; their
+    /// direct light is the diffuse base's. Rougher ones take the whole BRDF
+    /// in direct light, under MIS, and no bounce, as glossy Phong does.
+    static constexpr float kMirrorRoughness = 0.1f;
 
     explicit WhittedIntegrator(const IntegratorInputs& in);
 

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -92,6 +93,25 @@ void checkSceneReads(const Options& o, const SceneReads& reads, const char* prog
     if (program && !reads.outside.empty())
         std::fprintf(stderr, "%s: warning: %s: reads %zu file(s) outside the scene's folder, first %s\n", program,
                      o.scene.string().c_str(), reads.outside.size(), reads.outside.begin()->string().c_str());
+}
+
+void warnIfEmptyImage(const Options& o, const pnb::Framebuffer& image, const pnb::RenderStats& stats, bool scenery,
+                      const char* program) {
+    // Black: no pixel reaches a tenth of the darkest non-zero 8-bit sRGB value.
+    constexpr float kBlack = 3e-5f;
+    // Nearly all background: at most this share of the pixels see a surface.
+    constexpr double kBackgroundShare = 0.01;
+    float brightest = 0.f;
+    const std::vector<float> rgba = image.rgba();
+    for (size_t i = 0; i + 3 < rgba.size(); i += 4)
+        brightest = std::max({brightest, rgba[i], rgba[i + 1], rgba[i + 2]});
+    const bool black = !(brightest > kBlack);
+    const double pixels = double(image.width()) * double(image.height());
+    const bool empty = scenery && pixels > 0 && double(stats.pixelsHit) <= kBackgroundShare * pixels;
+    if (!black && !empty) return;
+    std::fprintf(stderr, "%s: warning: %s: the image is %s; the camera may be outside a closed model; try --eye/--look-at\n",
+                 program, o.output.string().c_str(),
+                 black ? "black" : "nearly all background (its pixels see no surface)");
 }
 
 nlohmann::json statisticsHeader(const Options& o, const pnb::RenderSettings& s, const std::string& accelerator) {

@@ -43,6 +43,13 @@ pnb::LoadOptions loadOptionsFor(const Options& o, SceneReads& reads);
 /// outside the scene's folder.
 void checkSceneReads(const Options& o, const SceneReads& reads, const char* program);
 
+/// After rendering: warns, as `program`, when the image is black or nearly
+/// none of its pixels sees a surface (an automatic camera framing a
+/// closed model from outside, a plane seen edge-on). `scenery`: the scene has
+/// primitives (an environment alone is all background by design).
+void warnIfEmptyImage(const Options& o, const pnb::Framebuffer& image, const pnb::RenderStats& stats, bool scenery,
+                      const char* program);
+
 /// The --stats-json keys both commands write first: scene, output,
 /// accelerator and the settings that shape the image.
 nlohmann::json statisticsHeader(const Options& o, const pnb::RenderSettings& s, const std::string& accelerator);

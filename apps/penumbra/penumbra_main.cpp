@@ -160,6 +160,7 @@ int runSteps(const Options& o, std::string& step) {
         std::fprintf(stderr, "penumbra: interrupted; no image written\n");
         return 130;
     }
+    warnIfEmptyImage(o, image, *stats, p.prepared.primitiveCount() > 0, "penumbra");
     writeAndReport(o, p, image, *stats, t0, step);
     return 0;
 }

@@ -157,9 +157,7 @@ Material MaterialReader::read(const tinygltf::Material& g, const std::string& wh
     if (std::isfinite(g.alphaCutoff) && g.alphaCutoff >= 0.0 && g.alphaCutoff <= 1.0) m.alphaCutoff = float(g.alphaCutoff);
     else warn(where, "alphaCutoff " + std::to_string(g.alphaCutoff) + " is not in [0, 1]; using 0.5");
 
-    // Until the renderer shades metal-roughness, the Phong terms approximate it
-    // (the next stage of the renderer replaces this).
-    approximateWithPhong(m);
+    mapTransmissionOntoGlass(m);
     m.textureIndex = m.baseColorMap.texture;
     m.diffuseTexture = m.baseColorTexture.path;
     return m;

@@ -90,8 +90,8 @@ Material SceneReader::readMaterial(const Json& j, const std::string& ptr, const 
     }
     if (const Json* v = find(j, "two_sided")) m.twoSidedEmission = boolean(*v, child(ptr, "two_sided"));
     readSharedMaps(j, ptr, m, scene);
-    // Until the renderer shades metal-roughness, its Phong terms approximate it.
-    if (pbr) approximateWithPhong(m);
+    // Transmission is the smooth dielectric's (core/material.h).
+    if (pbr) mapTransmissionOntoGlass(m);
     return m;
 }
 

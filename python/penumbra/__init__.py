@@ -26,6 +26,7 @@ try:
         LightSelection,
         LogLevel,
         Material,
+        MaterialKind,
         Matrix3x4,
         PhongModel,
         PreparedScene,
@@ -53,7 +54,7 @@ __version__ = version()
 __all__ = [
     "BuildQuality", "Camera", "DirectLightSampling", "Error", "ErrorCode", "Framebuffer", "Image", "IntegratorKind",
     "JobStatus", "LightSelection",
-    "LogLevel", "Material", "Matrix3x4", "PhongModel", "PreparedScene", "RenderJob", "Renderer",
+    "LogLevel", "Material", "MaterialKind", "Matrix3x4", "PhongModel", "PreparedScene", "RenderJob", "Renderer",
     "RenderSettings", "RenderStats", "Scene", "png_bytes", "version",
 ]
 

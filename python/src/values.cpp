@@ -186,6 +186,9 @@ void bindValues(py::module_& m) {
                                                 "empirical model.")
         .value("Normalized", pnb::PhongModel::Normalized)
         .value("Classic", pnb::PhongModel::Classic);
+    py::enum_<pnb::MaterialKind>(m, "MaterialKind", "Phong: the Phong terms; MetalRoughness: glTF 2.0's metal-roughness BSDF")
+        .value("Phong", pnb::MaterialKind::Phong)
+        .value("MetalRoughness", pnb::MaterialKind::MetalRoughness);
     py::enum_<pnb::LightSelection>(m, "LightSelection")
         .value("All", pnb::LightSelection::All)
         .value("Power", pnb::LightSelection::Power)
@@ -212,11 +215,37 @@ void bindValues(py::module_& m) {
         .value("Failed", pnb::JobStatus::Failed);
 
     const pnb::Material dm;
-    py::class_<pnb::Material>(m, "Material", "Phong material; colours are linear RGB triples (or one number: gray).")
+    // A texture slot as its image path (the slot's other settings keep their defaults).
+    const auto slotPath = [](pnb::TextureSlot pnb::Material::*slot) {
+        return py::cpp_function([slot](const pnb::Material& mat) { return (mat.*slot).path; });
+    };
+    const auto setSlotPath = [](pnb::TextureSlot pnb::Material::*slot) {
+        return py::cpp_function([slot](pnb::Material& mat, std::string path) { (mat.*slot).path = std::move(path); });
+    };
+    py::class_<pnb::Material>(m, "Material",
+                              "A material: Phong, or metal-roughness (kind); colours are linear RGB triples (or one number: gray).")
         .def(py::init([](const pnb::Color& kd, const pnb::Color& ks, float exponent, const pnb::Color& kr,
                          const pnb::Color& ke, const pnb::Color& ka, bool twoSidedEmission, pnb::PhongModel model,
-                         std::string diffuseTexture, std::string name, const pnb::Color& kt, float ior) {
+                         std::string diffuseTexture, std::string name, const pnb::Color& kt, float ior,
+                         pnb::MaterialKind kind, const pnb::Color& baseColor, float metallic, float roughness,
+                         float transmission, std::string baseColorTexture, std::string metallicRoughnessTexture,
+                         std::string normalTexture, float normalScale, std::string emissiveTexture) {
                  pnb::Material mat;
+                 mat.kind = kind;
+                 mat.baseColor = baseColor;
+                 mat.metallic = metallic;
+                 mat.roughness = roughness;
+                 mat.transmission = transmission;
+                 mat.baseColorTexture.path = std::move(baseColorTexture);
+                 if (!metallicRoughnessTexture.empty()) {
+                     // glTF's layout: B metallic, G roughness.
+                     mat.metallicTexture.path = mat.roughnessTexture.path = std::move(metallicRoughnessTexture);
+                     mat.metallicTexture.channel = 2;
+                     mat.roughnessTexture.channel = 1;
+                 }
+                 mat.normalTexture.path = std::move(normalTexture);
+                 mat.normalScale = normalScale;
+                 mat.emissiveTexture.path = std::move(emissiveTexture);
                  mat.kd = kd;
                  mat.ks = ks;
                  mat.exponent = exponent;
@@ -235,7 +264,11 @@ void bindValues(py::module_& m) {
              py::arg("kr") = dm.kr, py::arg("ke") = dm.ke, py::arg("ka") = dm.ka,
              py::arg("two_sided_emission") = dm.twoSidedEmission, py::arg("model") = dm.model,
              py::arg("diffuse_texture") = dm.diffuseTexture, py::arg("name") = dm.name, py::arg("kt") = dm.kt,
-             py::arg("ior") = dm.ior)
+             py::arg("ior") = dm.ior, py::arg("kind") = dm.kind, py::arg("base_color") = dm.baseColor,
+             py::arg("metallic") = dm.metallic, py::arg("roughness") = dm.roughness,
+             py::arg("transmission") = dm.transmission, py::arg("base_color_texture") = std::string(),
+             py::arg("metallic_roughness_texture") = std::string(), py::arg("normal_texture") = std::string(),
+             py::arg("normal_scale") = dm.normalScale, py::arg("emissive_texture") = std::string())
         .def_readwrite("name", &pnb::Material::name)
         .def_readwrite("ka", &pnb::Material::ka, "ambient reflectance (times the scene's ambient light)")
         .def_readwrite("kd", &pnb::Material::kd, "diffuse albedo")
@@ -248,6 +281,18 @@ void bindValues(py::module_& m) {
         .def_readwrite("diffuse_texture", &pnb::Material::diffuseTexture, "image multiplying kd through mesh UVs")
         .def_readwrite("kt", &pnb::Material::kt, "transmission colour: non-zero makes the surface glass")
         .def_readwrite("ior", &pnb::Material::ior, "index of refraction behind the front side (glass)")
+        .def_readwrite("kind", &pnb::Material::kind, "the reflection model: Phong or MetalRoughness")
+        .def_readwrite("base_color", &pnb::Material::baseColor, "metal-roughness: base colour")
+        .def_readwrite("metallic", &pnb::Material::metallic, "metal-roughness: metalness in [0, 1]")
+        .def_readwrite("roughness", &pnb::Material::roughness, "metal-roughness: perceptual roughness in [0, 1]")
+        .def_readwrite("transmission", &pnb::Material::transmission, "metal-roughness: refracted share in [0, 1]")
+        .def_readwrite("normal_scale", &pnb::Material::normalScale, "scales the normal map's X and Y")
+        .def_property("base_color_texture", slotPath(&pnb::Material::baseColorTexture),
+                      setSlotPath(&pnb::Material::baseColorTexture), "sRGB image multiplying base_color")
+        .def_property("normal_texture", slotPath(&pnb::Material::normalTexture),
+                      setSlotPath(&pnb::Material::normalTexture), "tangent-space normal map")
+        .def_property("emissive_texture", slotPath(&pnb::Material::emissiveTexture),
+                      setSlotPath(&pnb::Material::emissiveTexture), "sRGB image multiplying ke")
         .def("__repr__", [](const pnb::Material& mat) {
             return "Material(name=" + std::string(py::repr(py::str(mat.name))) +
                    ", kd=" + std::string(py::repr(py::cast(mat.kd))) + ", ks=" + std::string(py::repr(py::cast(mat.ks))) +
@@ -354,6 +399,7 @@ void bindValues(py::module_& m) {
         .def_readonly("threads", &pnb::RenderStats::threads)
         .def_readonly("transmission_rays", &pnb::RenderStats::transmissionRays)
         .def_readonly("brdf_rays", &pnb::RenderStats::brdfRays)
+        .def_readonly("pixels_hit", &pnb::RenderStats::pixelsHit)
         .def_readonly("indirect_rays", &pnb::RenderStats::indirectRays)
         .def_readonly("path_length_sum", &pnb::RenderStats::pathLengthSum,
                       "rays along each camera sample's path, summed (mean = path_length_sum / camera_rays)")

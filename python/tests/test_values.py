@@ -92,3 +92,20 @@ def test_mesh_from_numpy_matches_analytic_value(renderer):
     assert numpy.all(is_a | is_b)
     # Half of the columns each (the camera's x runs along the world's x).
     assert is_a.sum() == is_b.sum() == pixels.shape[0] // 2
+
+
+def test_metal_roughness_material_from_keywords_renders_its_base_colour():
+    mat = penumbra.Material(kind=penumbra.MaterialKind.MetalRoughness, base_color=(0.9, 0.1, 0.1), metallic=0.0,
+                            roughness=0.6)
+    assert mat.kind == penumbra.MaterialKind.MetalRoughness
+    assert mat.metallic == 0.0 and mat.roughness == pytest.approx(0.6)
+    assert mat.base_color_texture == "" and mat.normal_scale == 1.0
+    renderer = penumbra.Renderer()
+    scene = penumbra.Scene()
+    scene.add_plane((0, 0, 0), (0, 1, 0), scene.add_material(mat))
+    scene.set_environment((1, 1, 1))
+    top = penumbra.Camera(eye=(0, 2, 0), look_at=(0, 0, 0), up=(0, 0, -1), vfov_degrees=30.0)
+    image = renderer.render(renderer.prepare(scene), top, width=8, height=8, spp=16, light_samples=4)
+    red, green = image[..., 0].mean(), image[..., 1].mean()
+    # A red plastic under a white sky: the diffuse base's red, and the 4% specular in every channel.
+    assert red > 0.6 and 0.02 < green < 0.2

@@ -7,7 +7,14 @@
 
 namespace penumbra {
 
+float bsdfPiPeakPdf(const ShadingPoint& sp) {
+    if (sp.metalRoughness) return metalRoughnessAt(sp).piPeakPdf();
+    const float pd = phongDiffuseProbability(*sp.material, sp.kd);
+    return pd + (1.f - pd) * 0.5f * (sp.material->exponent + 1.f);
+}
+
 BsdfLobes bsdfLobes(const ShadingPoint& sp) {
+    if (sp.metalRoughness) return {1.f, 0.f, 0.f};
     const Material& m = *sp.material;
     const float smooth = sp.reflectsLight() ? Rgb(sp.kd).average() + Rgb(m.ks).average() : 0.f;
     const float mirror = m.isDielectric() ? 0.f : Rgb(m.kr).average();
@@ -21,7 +28,9 @@ std::optional<BsdfBounce> sampleBsdf(const ShadingPoint& sp, const BsdfLobes& lo
     const Material& m = *sp.material;
     constexpr float kBelowOne = 0x1.fffffep-1f;
     if (u.x < lobes.smooth) {
-        const std::optional<BsdfSample> s = samplePhong(m, sp.kd, sp.ns, sp.wo, Vec2f{std::min(u.x / lobes.smooth, kBelowOne), u.y});
+        const Vec2f v{std::min(u.x / lobes.smooth, kBelowOne), u.y};
+        const std::optional<BsdfSample> s =
+            sp.metalRoughness ? metalRoughnessAt(sp).sample(v) : samplePhong(m, sp.kd, sp.ns, sp.wo, v);
         if (!s || !(s->pdf > 0.f) || dot(s->wi, sp.ng) <= 0.f) return std::nullopt;
         const float pdf = lobes.smooth * s->pdf;
         return BsdfBounce{s->wi, s->fCos * (1.f / pdf), pdf, false, false};

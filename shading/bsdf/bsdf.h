@@ -1,6 +1,7 @@
 // The material at a shading point as the direct-light estimator and the
 // integrators ask for it. Its smooth lobes (Phong, classic or normalised:
-// phong.h, phong_sampling.h) give f cos and the pdf of a direction and sample
+// phong.h, phong_sampling.h; or glTF's metal-roughness BRDF:
+// metal_roughness.h) give f cos and the pdf of a direction and sample
 // directions; a bounce chooses among those lobes, the mirror (mirror.h) and
 // the dielectric (dielectric.h). These functions are the one dispatch on the
 // material's model: a new model is a file in this folder and a case in each.
@@ -10,6 +11,7 @@
 #include <optional>
 
 #include "shading/bsdf/bsdf_sample.h"
+#include "shading/bsdf/metal_roughness.h"
 #include "shading/bsdf/phong.h"
 #include "shading/bsdf/phong_sampling.h"
 #include "shading/shading_point.h"
@@ -22,29 +24,44 @@ namespace penumbra {
 /// formula in the classic one (shading/bsdf/phong.h). Zero below the shading
 /// surface.
 inline Rgb bsdfResponse(const ShadingPoint& sp, const Vec3f& wi, bool deltaLight) {
+    if (sp.metalRoughness) return metalRoughnessAt(sp).evaluate(wi).fCos;
     return phongResponse(*sp.material, sp.kd, sp.ns, sp.wo, wi, deltaLight);
 }
 
 /// f cos of the smooth lobes towards wi and the pdf with which BsdfSampler
 /// draws wi: what a light sample's MIS weight needs.
 inline BsdfSample bsdfEvaluate(const ShadingPoint& sp, const Vec3f& wi) {
+    if (sp.metalRoughness) return metalRoughnessAt(sp).evaluate(wi);
     return phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, wi);
 }
+
+/// Pi times the largest value of the smooth lobes' sampling pdf (1 for a
+/// Lambertian surface): how sharp they are, for the rule that decides where
+/// BSDF samples pay (shading/direct_light.cpp).
+float bsdfPiPeakPdf(const ShadingPoint& sp);
 
 /// Samples of the smooth lobes at one shading point, their set-up shared:
 /// direction(u) alone (nullopt below the surface, or where nothing is
 /// reflected), then evaluate() for f cos and the pdf where they are needed.
 class BsdfSampler {
 public:
-    explicit BsdfSampler(const ShadingPoint& sp) : phong_(*sp.material, sp.kd, sp.ns, sp.wo) {}
-    std::optional<Vec3f> direction(Vec2f u) const { return phong_.direction(u); }
-    BsdfSample evaluate(const Vec3f& wi) const { return phong_.evaluate(wi); }
+    explicit BsdfSampler(const ShadingPoint& sp) {
+        if (sp.metalRoughness)
+            metalRoughness_.emplace(metalRoughnessAt(sp));
+        else
+            phong_.emplace(*sp.material, sp.kd, sp.ns, sp.wo);
+    }
+    std::optional<Vec3f> direction(Vec2f u) const {
+        return phong_ ? phong_->direction(u) : metalRoughness_->direction(u);
+    }
+    BsdfSample evaluate(const Vec3f& wi) const { return phong_ ? phong_->evaluate(wi) : metalRoughness_->evaluate(wi); }
     /// The Phong sampler itself, for strategies written for its lobes
     /// (shading/light_windows.h); nullptr for another model.
-    const PhongSampler* phong() const { return &phong_; }
+    const PhongSampler* phong() const { return phong_ ? &*phong_ : nullptr; }
 
 private:
-    PhongSampler phong_;
+    std::optional<PhongSampler> phong_;
+    std::optional<MetalRoughnessBsdf> metalRoughness_;
 };
 
 /// The probabilities with which a bounce picks each of the material's lobes:

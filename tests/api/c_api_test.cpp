@@ -296,19 +296,18 @@ TEST(CApi, RendersTheExpectedRadianceAndWritesImages) {
     EXPECT_EQ(pnb_framebuffer_encode_image(nullptr, "png", nullptr, &data, &size), PNB_ERROR_INVALID_ARGUMENT);
 }
 
-TEST(CApi, SameImageAsTheCppApi) {
-    Fixture f;
-    pnb_material m;
-    pnb_material_init(&m);
-    m.kd = pnb_color{0.6f, 0.3f, 0.2f};
-    m.ks = gray(0.3f);
-    m.exponent = 20.f;
+namespace {
+
+// A quad (with normals and uvs) of material `m`, lit head-on by a point
+// light, rendered through the C API into f and through the C++ API with `cm`;
+// returns the C++ image after checking that both are the same bits.
+std::vector<float> expectQuadSameThroughBothApis(Fixture& f, const pnb_material& m, const pnb::Material& cm) {
     uint32_t id = 0;
-    ASSERT_EQ(pnb_scene_add_material(f.scene, &m, &id), PNB_OK);
-    const float pos[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
-    const float nrm[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-    const float uvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
-    const uint32_t idx[] = {0, 1, 2, 0, 2, 3};
+    EXPECT_EQ(pnb_scene_add_material(f.scene, &m, &id), PNB_OK) << pnb_scene_last_error(f.scene);
+    static const float pos[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    static const float nrm[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    static const float uvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
+    static const uint32_t idx[] = {0, 1, 2, 0, 2, 3};
     pnb_mesh_desc mesh;
     pnb_mesh_desc_init(&mesh);
     mesh.name = "quad";
@@ -319,17 +318,13 @@ TEST(CApi, SameImageAsTheCppApi) {
     mesh.normals = nrm;
     mesh.uvs = uvs;
     mesh.material = id;
-    ASSERT_EQ(pnb_scene_add_mesh(f.scene, &mesh), PNB_OK) << lastError();
-    ASSERT_EQ(pnb_scene_add_point_light(f.scene, v3(0.5f, 0.5f, 3), gray(10.f)), PNB_OK);
+    EXPECT_EQ(pnb_scene_add_mesh(f.scene, &mesh), PNB_OK) << pnb_scene_last_error(f.scene);
+    EXPECT_EQ(pnb_scene_add_point_light(f.scene, v3(0.5f, 0.5f, 3), gray(10.f)), PNB_OK);
     f.prepare();
-    ASSERT_EQ(pnb_framebuffer_create(&f.settings, &f.image), PNB_OK);
-    ASSERT_EQ(pnb_render(f.renderer, f.prepared, &f.camera, &f.settings, f.image, nullptr, nullptr), PNB_OK);
+    EXPECT_EQ(pnb_framebuffer_create(&f.settings, &f.image), PNB_OK);
+    EXPECT_EQ(pnb_render(f.renderer, f.prepared, &f.camera, &f.settings, f.image, nullptr, nullptr), PNB_OK);
 
     pnb::Scene s;
-    pnb::Material cm;
-    cm.kd = {0.6f, 0.3f, 0.2f};
-    cm.ks = pnb::gray(0.3f);
-    cm.exponent = 20.f;
     pnb::MeshDesc cmesh;
     cmesh.material = s.addMaterial(cm);
     cmesh.positions = pos;
@@ -348,7 +343,25 @@ TEST(CApi, SameImageAsTheCppApi) {
     cam.eye = {0, 0, 4};
     cam.lookAt = {0, 0, 0};
     const pnb::Renderer r([](pnb::LogLevel, std::string_view) {});
-    EXPECT_TRUE(sameBits(f.read(f.image), r.render(r.prepare(s), cam, st).rgba()));
+    std::vector<float> cpp = r.render(r.prepare(s), cam, st).rgba();
+    EXPECT_TRUE(sameBits(f.read(f.image), cpp));
+    return cpp;
+}
+
+}  // namespace
+
+TEST(CApi, SameImageAsTheCppApi) {
+    Fixture f;
+    pnb_material m;
+    pnb_material_init(&m);
+    m.kd = pnb_color{0.6f, 0.3f, 0.2f};
+    m.ks = gray(0.3f);
+    m.exponent = 20.f;
+    pnb::Material cm;
+    cm.kd = {0.6f, 0.3f, 0.2f};
+    cm.ks = pnb::gray(0.3f);
+    cm.exponent = 20.f;
+    expectQuadSameThroughBothApis(f, m, cm);
 }
 
 TEST(CApi, PassesConvergeToTheOneShotImage) {
@@ -783,3 +796,39 @@ TEST(CApi, InstancesMatchTheCppApiAndRefuseBadInput) {
 }
 
 }  // namespace
+
+TEST(CApi, MetalRoughnessMaterialGivesTheCppApisImage) {
+    // A red metal-roughness quad with a metallic-roughness texture in glTF's layout.
+    const std::filesystem::path dir = penumbra::test::tempDir();
+    // 1 x 1 linear PFM: G (roughness) 0.5, B (metallic) 0.25.
+    std::string pfm = "PF\n1 1\n-1.0\n";
+    const float texel[3] = {0.f, 0.5f, 0.25f};
+    pfm.append(reinterpret_cast<const char*>(texel), sizeof texel);
+    const std::string mr = penumbra::test::writeFile(dir / "mr.pfm", pfm).string();
+    Fixture f;
+    pnb_material m;
+    pnb_material_init(&m);
+    EXPECT_EQ(m.kind, PNB_MATERIAL_PHONG);
+    EXPECT_FLOAT_EQ(m.normal_scale, 1.f);
+    m.kind = PNB_MATERIAL_METAL_ROUGHNESS;
+    m.base_color = pnb_color{0.8f, 0.2f, 0.1f};
+    m.metallic = 1.f;
+    m.roughness = 0.8f;
+    m.metallic_roughness_texture = mr.c_str();
+    pnb::Material cm;
+    cm.kind = pnb::MaterialKind::MetalRoughness;
+    cm.baseColor = {0.8f, 0.2f, 0.1f};
+    cm.metallic = 1.f;
+    cm.roughness = 0.8f;
+    cm.metallicTexture.path = cm.roughnessTexture.path = mr;
+    cm.metallicTexture.channel = 2;
+    cm.roughnessTexture.channel = 1;
+    const std::vector<float> cpp = expectQuadSameThroughBothApis(f, m, cm);
+    // The texture's metallic 0.25 leaves a diffuse red part: red dominates the lit centre.
+    const size_t centre = (16 * 33 + 16) * 4;
+    EXPECT_GT(cpp[centre], 2.f * cpp[centre + 2]);
+
+    m.kind = static_cast<pnb_material_kind>(7);
+    EXPECT_EQ(pnb_scene_add_material(f.scene, &m, nullptr), PNB_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pnb_scene_last_error(f.scene)).find("material kind 7"), std::string::npos);
+}

@@ -111,8 +111,8 @@ TEST(GltfRender, SharedTwoSidedPlaneIsNotSeenEdgeOn) {
 }
 
 // A metal-roughness material built in code is checked, and renders through
-// the Phong approximation until the renderer shades the model itself.
-TEST(ApiMaterials, MetalRoughnessMaterialsAreCheckedAndApproximated) {
+// the metal-roughness BSDF.
+TEST(ApiMaterials, MetalRoughnessMaterialsAreCheckedAndShaded) {
     std::vector<std::string> warnings;
     const pnb::Renderer r([&](pnb::LogLevel level, std::string_view m) {
         if (level == pnb::LogLevel::Warning) warnings.emplace_back(m);
@@ -122,7 +122,7 @@ TEST(ApiMaterials, MetalRoughnessMaterialsAreCheckedAndApproximated) {
     red.kind = pnb::MaterialKind::MetalRoughness;
     red.baseColor = {1.f, 0.f, 0.f};
     red.metallic = 0.f;
-    red.kd = pnb::gray(1.f);  // a Phong term: replaced by the approximation
+    red.kd = pnb::gray(1.f);  // a Phong term: ignored by the metal-roughness model
     red.emissiveTexture.path = "/nonexistent/glow.png";
     s.addRectangle({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, s.addMaterial(red));
     pnb::Camera cam;

@@ -244,3 +244,28 @@ TEST(Cli, DefaultSceneRendersTheSameWithBothAccelerators) {
     EXPECT_LE(differing, pixels / 1000);  // at most 0.1% of the pixels (grazing rays along box edges)
     EXPECT_LT(maxDiff, 1e-2);
 }
+
+TEST(Cli, WarnsWhenTheImageIsBlackOrAllBackground) {
+    const fs::path dir = test::tempDir();
+    const std::string warning = "the camera may be outside a closed model; try --eye/--look-at";
+    // The small scene seen as it is: no warning.
+    const fs::path scene = smallScene(dir);
+    RunResult r = runPenumbra(scene.string() + " -q -o " + (dir / "ok.pfm").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(r.output.find(warning), std::string::npos) << r.output;
+    // Inside a closed box whose inside nothing lights: black.
+    const fs::path box = test::writeFile(dir / "box.json", R"({
+  "camera": {"eye": [0, 0, 0], "look_at": [0, 0, -1], "up": [0, 1, 0], "fov": 60},
+  "render": {"width": 16, "height": 16, "spp": 1, "seed": 1},
+  "materials": {"wall": {"kd": 0.5}},
+  "shapes": [{"type": "box", "min": [-1, -1, -1], "max": [1, 1, 1], "material": "wall"}],
+  "lights": [{"type": "point", "position": [0, 5, 0], "intensity": 10}]
+})");
+    r = runPenumbra(box.string() + " -q -o " + (dir / "box.pfm").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("the image is black; " + warning), std::string::npos) << r.output;
+    // Looking away from the scene under a grey background: nearly all background, though not black.
+    r = runPenumbra(scene.string() + " -q --look-at 0,10,5 --background 0.5,0.5,0.5 -o " + (dir / "away.pfm").string());
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("nearly all background"), std::string::npos) << r.output;
+}

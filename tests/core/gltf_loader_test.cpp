@@ -144,7 +144,7 @@ TEST(Gltf, FactorsAndEveryTextureChannelWithUvSetsSamplersAndTransforms) {
     for (int i = 0; i < 6; ++i) EXPECT_NEAR(mat.emissiveMap.m[i], expected[i], 1e-6f) << i;
     EXPECT_FLOAT_EQ(mat.emissiveTexture.rotation, float(kPi / 2));
 
-    // The Phong terms approximate it until the renderer shades metal-roughness.
+    // Transmission makes the smooth dielectric over a diffuse part (mapTransmissionOntoGlass).
     EXPECT_NEAR(mat.kd.r, 0.8f * 0.6f * 0.96f * 0.5f, 1e-6f);  // (1 - metallic)(1 - transmitted)(1 - 4%) base
     EXPECT_EQ(mat.textureIndex, mat.baseColorMap.texture);
     EXPECT_NEAR(mat.kt.r, 0.4f * 0.5f, 1e-6f);                 // transmission * (1 - metallic) * base

@@ -69,9 +69,12 @@ TEST(JsonMaterials, MetalRoughnessKeysAndTextureSlots) {
     EXPECT_EQ(m.alphaMode, AlphaMode::Mask);
     EXPECT_FLOAT_EQ(m.alphaCutoff, 0.75f);
     EXPECT_EQ(m.opacityMap.channel, 3);
-    // Until the renderer shades metal-roughness, the Phong terms approximate it: a polished-ish metal.
-    EXPECT_FLOAT_EQ(m.kd.r, 0.f);
-    EXPECT_FLOAT_EQ(m.ks.g, 0.8f);
+    // A metal transmits nothing: shaded by the metal-roughness BSDF, its Phong terms hold no
+    // glossy, mirror or glass term, and kd is the base colour (core/material.h, mapTransmissionOntoGlass).
+    EXPECT_TRUE(m.shadedAsMetalRoughness());
+    EXPECT_FLOAT_EQ(m.kd.g, 0.8f);
+    EXPECT_FLOAT_EQ(m.ks.g, 0.f);
+    EXPECT_FLOAT_EQ(m.kr.g, 0.f);
 }
 
 TEST(JsonMaterials, PhongMaterialsTakeTheSharedSlots) {

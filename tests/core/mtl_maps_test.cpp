@@ -97,7 +97,7 @@ TEST(MtlMaps, PbrKeysMakeAMetalRoughnessMaterialWithTheirMaps) {
     EXPECT_FLOAT_EQ(brass.metallic, 1.f);
     EXPECT_FLOAT_EQ(brass.roughness, 1.f) << "a map without its factor has the factor 1";
     EXPECT_EQ(brass.baseColorMap.texture, brass.textureIndex);
-    // The Phong terms stay the MTL's: what renders until metal-roughness is shaded.
+    // The Phong terms stay the MTL's (the metal-roughness BSDF ignores them).
     EXPECT_FLOAT_EQ(brass.kd.r, 0.8f);
     EXPECT_FLOAT_EQ(brass.ks.r, 0.5f);
     EXPECT_FLOAT_EQ(brass.exponent, 98.f);

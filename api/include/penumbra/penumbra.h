@@ -86,6 +86,8 @@ typedef enum pnb_log_level {
 typedef void (*pnb_log_fn)(pnb_log_level level, const char* message, void* user);
 
 typedef enum pnb_phong_model { PNB_PHONG_NORMALIZED = 0, PNB_PHONG_CLASSIC = 1 } pnb_phong_model;
+/* The reflection model: the Phong terms, or glTF 2.0's metal-roughness BSDF (docs/rendering.md). */
+typedef enum pnb_material_kind { PNB_MATERIAL_PHONG = 0, PNB_MATERIAL_METAL_ROUGHNESS = 1 } pnb_material_kind;
 
 /* Phong material; fill with pnb_material_init first. */
 typedef struct pnb_material {
@@ -99,6 +101,15 @@ typedef struct pnb_material {
     const char* diffuse_texture;   /* image path multiplying kd through mesh UVs; NULL = none */
     pnb_color kt;                  /* transmission colour: non-zero makes the surface glass (a dielectric) */
     float ior;                     /* index of refraction behind the front side (used when kt is non-zero) */
+    pnb_material_kind kind;        /* PNB_MATERIAL_METAL_ROUGHNESS: the fields below (the Phong terms but ke are ignored) */
+    pnb_color base_color;          /* linear RGB */
+    float metallic, roughness;     /* in [0, 1] */
+    float transmission;            /* in [0, 1]: the non-metal part's share that refracts (smooth glass, ior) */
+    const char* base_color_texture;         /* sRGB image multiplying base_color; NULL = none */
+    const char* metallic_roughness_texture; /* linear, glTF's layout: B multiplies metallic, G roughness; NULL = none */
+    const char* normal_texture;             /* tangent-space normal map (either kind); NULL = none */
+    float normal_scale;                     /* scales the normal map's X and Y */
+    const char* emissive_texture;           /* sRGB image multiplying ke (either kind); NULL = none */
 } pnb_material;
 
 /* A triangle mesh in host arrays (copied by pnb_scene_add_mesh); fill with pnb_mesh_desc_init first. */
@@ -194,6 +205,7 @@ typedef struct pnb_render_stats {
     uint64_t path_length_sum; /* rays along each camera sample's path, summed (mean = sum / camera_rays) */
     uint32_t path_length_max;
     uint64_t brdf_rays; /* whitted: BRDF-sampled direct-light rays traced under MIS (docs/rendering.md) */
+    uint64_t pixels_hit; /* pixels whose first camera sample (of each pass) hit a surface */
 } pnb_render_stats;
 
 /* Hooks for a synchronous render; fill with zeros or pnb_render_callbacks_init. progress gets the

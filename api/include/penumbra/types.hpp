@@ -101,8 +101,9 @@ enum class MaterialKind {
     /// model of OBJ/MTL and JSON materials unless they ask for another.
     Phong,
     /// glTF 2.0's metal-roughness model: baseColor, metallic, roughness,
-    /// transmission with ior. The renderer does not shade it yet: until it
-    /// does, a loader also fills the Phong terms with an approximation.
+    /// transmission with ior, shaded by a GGX microfacet BSDF
+    /// (docs/rendering.md); transmission makes the smooth dielectric, and the
+    /// Phong terms but ke are ignored.
     MetalRoughness,
 };
 
@@ -265,6 +266,9 @@ struct RenderStats {
     /// closest-hit query that looks for one; shadowRays are the occlusion queries towards sampled
     /// light points).
     std::uint64_t brdfRays = 0;
+    /// Pixels whose first camera sample hit a surface (the rest saw the
+    /// background or the environment there), summed over passes.
+    std::uint64_t pixelsHit = 0;
 
     /// Every ray traced: the sum of the kinds above (invalid rays are not traced).
     std::uint64_t totalRays() const {
@@ -287,6 +291,7 @@ struct RenderStats {
         pathLengthSum += pass.pathLengthSum;
         pathLengthMax = pass.pathLengthMax > pathLengthMax ? pass.pathLengthMax : pathLengthMax;
         brdfRays += pass.brdfRays;
+        pixelsHit += pass.pixelsHit;
         mraysPerSecond = renderSeconds > 0 ? double(totalRays()) / renderSeconds * 1e-6 : 0.0;
         samplesPerPixel = pass.samplesPerPixel;
         threads = pass.threads;

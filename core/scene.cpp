@@ -82,6 +82,74 @@ void expandEmissiveInstances(Scene& s) {
     });
 }
 
+// Drops the analytic shapes whose parameters are non-finite or degenerate
+// (normalising the rest's normals, building boxes' frames); returns how many.
+size_t dropBadShapes(Scene& scene) {
+    size_t dropped = 0;
+    dropped += eraseIf(scene.spheres, [](const Sphere& s) {
+        return !isFinite(s.center) || !std::isfinite(s.radius) || !(s.radius > 0.f);
+    });
+    dropped += eraseIf(scene.planes, [](const Plane& p) {
+        return !isFinite(p.point) || !isFinite(p.normal) || !(lengthSquared(p.normal) > 0.f);
+    });
+    for (auto& p : scene.planes) p.normal = normalize(p.normal);
+    dropped += eraseIf(scene.boxes, [](const Box& b) {
+        Transform inv;
+        return !isFinite(b.lo) || !isFinite(b.hi) || b.lo.x > b.hi.x || b.lo.y > b.hi.y || b.lo.z > b.hi.z ||
+               !finiteTransform(b.worldFromObject) || !b.worldFromObject.inverse(inv);
+    });
+    for (auto& b : scene.boxes) b = makeBox(b.lo, b.hi, b.worldFromObject, b.material);
+    dropped += eraseIf(scene.rectangles, [](const Rectangle& q) {
+        return !isFinite(q.p0) || !isFinite(q.a) || !isFinite(q.b) || !(area(q) > 0.f);
+    });
+    dropped += eraseIf(scene.disks, [](const Disk& d) {
+        return !isFinite(d.center) || !isFinite(d.normal) || !(lengthSquared(d.normal) > 0.f) ||
+               !std::isfinite(d.radius) || !(d.radius > 0.f);
+    });
+    for (auto& d : scene.disks) d.normal = normalize(d.normal);
+    return dropped;
+}
+
+// Material ids out of range fall back to material 0, texture references out
+// of range to none; returns how many material ids fell back.
+size_t fixMaterialReferences(Scene& s, std::vector<uint8_t>& uvNeeded) {
+    size_t badIds = 0;
+    const uint32_t nm = static_cast<uint32_t>(s.materials.size());
+    auto fixId = [&](uint32_t& id) {
+        if (id >= nm) {
+            id = 0;
+            ++badIds;
+        }
+    };
+    for (auto& x : s.spheres) fixId(x.material);
+    for (auto& x : s.planes) fixId(x.material);
+    for (auto& x : s.boxes) fixId(x.material);
+    for (auto& x : s.rectangles) fixId(x.material);
+    for (auto& x : s.disks) fixId(x.material);
+    for (auto& m : s.meshes) {
+        fixId(m.material);
+        for (auto& id : m.faceMaterials) fixId(id);
+    }
+    for (auto& p : s.prototypes) {
+        for (auto& m : p.meshes) {
+            fixId(m.material);
+            for (auto& id : m.faceMaterials) fixId(id);
+        }
+    }
+    for (auto& in : s.instances)
+        if (in.material != kNoMaterialOverride) fixId(in.material);
+    const int nt = static_cast<int>(s.textures.size());
+    uvNeeded.clear();
+    for (auto& m : s.materials) {
+        if (m.textureIndex >= nt) m.textureIndex = -1;
+        for (TextureRef* r : {&m.baseColorMap, &m.metallicMap, &m.roughnessMap, &m.transmissionMap, &m.normalMap,
+                              &m.emissiveMap, &m.opacityMap})
+            if (r->texture >= nt) *r = TextureRef{};
+        uvNeeded.push_back(m.needsUv());
+    }
+    return badIds;
+}
+
 }  // namespace
 
 SceneFixups Scene::finalize(const Logger& log) {
@@ -106,64 +174,10 @@ SceneFixups Scene::finalize(const Logger& log) {
     }
     fix.droppedInstances += eraseIf(instances, [&](const Instance& in) { return prototypes[in.prototype].meshes.empty(); });
 
-    fix.droppedShapes += eraseIf(spheres, [](const Sphere& s) {
-        return !isFinite(s.center) || !std::isfinite(s.radius) || !(s.radius > 0.f);
-    });
-    fix.droppedShapes += eraseIf(planes, [](const Plane& p) {
-        return !isFinite(p.point) || !isFinite(p.normal) || !(lengthSquared(p.normal) > 0.f);
-    });
-    for (auto& p : planes) p.normal = normalize(p.normal);
-    fix.droppedShapes += eraseIf(boxes, [](const Box& b) {
-        Transform inv;
-        return !isFinite(b.lo) || !isFinite(b.hi) || b.lo.x > b.hi.x || b.lo.y > b.hi.y || b.lo.z > b.hi.z ||
-               !finiteTransform(b.worldFromObject) || !b.worldFromObject.inverse(inv);
-    });
-    for (auto& b : boxes) b = makeBox(b.lo, b.hi, b.worldFromObject, b.material);
-    fix.droppedShapes += eraseIf(rectangles, [](const Rectangle& q) {
-        return !isFinite(q.p0) || !isFinite(q.a) || !isFinite(q.b) || !(area(q) > 0.f);
-    });
-    fix.droppedShapes += eraseIf(disks, [](const Disk& d) {
-        return !isFinite(d.center) || !isFinite(d.normal) || !(lengthSquared(d.normal) > 0.f) ||
-               !std::isfinite(d.radius) || !(d.radius > 0.f);
-    });
-    for (auto& d : disks) d.normal = normalize(d.normal);
+    fix.droppedShapes += dropBadShapes(*this);
     const RangeDrops beyond = dropBeyondSceneRange(*this);  // the same scene for every accelerator
 
-    // Material ids out of range fall back to material 0.
-    size_t badIds = 0;
-    const uint32_t nm = static_cast<uint32_t>(materials.size());
-    auto fixId = [&](uint32_t& id) {
-        if (id >= nm) {
-            id = 0;
-            ++badIds;
-        }
-    };
-    for (auto& s : spheres) fixId(s.material);
-    for (auto& s : planes) fixId(s.material);
-    for (auto& s : boxes) fixId(s.material);
-    for (auto& s : rectangles) fixId(s.material);
-    for (auto& s : disks) fixId(s.material);
-    for (auto& m : meshes) {
-        fixId(m.material);
-        for (auto& id : m.faceMaterials) fixId(id);
-    }
-    for (auto& p : prototypes) {
-        for (auto& m : p.meshes) {
-            fixId(m.material);
-            for (auto& id : m.faceMaterials) fixId(id);
-        }
-    }
-    for (auto& in : instances)
-        if (in.material != kNoMaterialOverride) fixId(in.material);
-    const int nt = static_cast<int>(textures.size());
-    uvNeeded_.clear();
-    for (auto& m : materials) {
-        if (m.textureIndex >= nt) m.textureIndex = -1;
-        for (TextureRef* r : {&m.baseColorMap, &m.metallicMap, &m.roughnessMap, &m.transmissionMap, &m.normalMap,
-                              &m.emissiveMap, &m.opacityMap})
-            if (r->texture >= nt) *r = TextureRef{};
-        uvNeeded_.push_back(m.needsUv());
-    }
+    const size_t badIds = fixMaterialReferences(*this, uvNeeded_);
 
     if (fix.droppedTriangles)
         log.warn("dropped " + std::to_string(fix.droppedTriangles) +

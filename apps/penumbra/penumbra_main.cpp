@@ -171,6 +171,10 @@ int runSteps(const Options& o, std::string& step) {
 int runPreviewSteps(const Options& o, std::string& step) {
     const auto t0 = Clock::now();
     precheckOptions(o);
+    // Ctrl-C is ours from the moment the address is printed: one pressed while
+    // the scene loads ends the preview (exit 130) once loading returns.
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
     preview::PreviewState state(o.scene.filename().string());
     const preview::PreviewServer server(state, o.previewPort);
     std::fprintf(stderr, "preview: http://127.0.0.1:%d/\n", server.port());
@@ -178,8 +182,6 @@ int runPreviewSteps(const Options& o, std::string& step) {
     pnb::Renderer renderer;
     const PreparedJob p = loadAndPrepare(o, renderer, step);
     state.start(p.job.settings, p.job.camera, o.exposure);
-    std::signal(SIGINT, onSignal);
-    std::signal(SIGTERM, onSignal);
     bool written = false;
     const auto onComplete = [&](const pnb::Framebuffer& image, const pnb::Camera&, const pnb::RenderStats& stats) {
         if (!o.output.empty()) {

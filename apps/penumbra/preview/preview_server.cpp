@@ -106,7 +106,11 @@ void applyMove(PreviewState& state, const nlohmann::json& move) {
     if (!move.is_object() || move.size() != 1)
         throw std::invalid_argument("expected one of {\"orbit\": [yaw, pitch]}, {\"zoom\": f}, {\"pan\": [x, y]}, "
                                     "{\"reset\": true}");
-    const auto& [key, value] = *move.items().begin();
+    // (Not a structured binding of *move.items().begin(): that proxy is a
+    // temporary, gone before its key is read.)
+    const auto first = move.begin();
+    const std::string key = first.key();
+    const nlohmann::json& value = first.value();
     if (key == "orbit") {
         const auto [yaw, pitch] = pair(value, "orbit", 360.0);
         state.moveCamera([&](const pnb::Camera& c) { return orbit(c, yaw, pitch); });

@@ -47,11 +47,11 @@ Rendered renderWhitted(const PreparedScene& ps, const CameraDesc& camera, int si
 
 }  // namespace
 
-// Issue 43's case: a closed glass shell (a glass sphere with an air cavity)
-// around the camera, 4x4 pixels, 1 sample each. Every glass hit splits a ray
-// in two, and most branches stay inside: traced in full, the rays grew about
-// 1.6 times per bounce (2.4 million by depth 22), and --max-depth 1000000
-// never finished.
+// A closed glass shell (a glass sphere with an air cavity) around the camera,
+// 4x4 pixels, 1 sample each. Every glass hit splits a ray in two and most
+// branches stay inside, so traced in full the work grows geometrically with
+// the depth; the rays traced must stay bounded at any --max-depth
+// (docs/rendering.md, "Beyond the default depth").
 TEST(DeepGlass, AClosedGlassShellAroundTheCameraEndsAtAnyMaxDepth) {
     Scene s;
     s.materials = {glass(1.5f), glass(1.f / 1.5f)};

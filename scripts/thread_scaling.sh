@@ -1,29 +1,42 @@
 #!/bin/bash
-# Thread scaling of the renderer: render time of the anchor scenes at 1, 2, 4, ...
-# threads up to the machine's cores, best of three runs each, as a Markdown page
-# with the machine, the commands and every raw figure.
+# Thread scaling of the renderer: render time of the anchor scenes (Whitted) and of
+# the path tracer's benchmark scenes at 1, 2, 4, ... threads up to the machine's
+# cores, best of three runs each, as a Markdown page with the machine, the commands,
+# every raw figure, and whether the image of every thread count is bit-identical to
+# the one-thread image.
 #
 #   scripts/thread_scaling.sh BUILD_DIR BENCH_DIR OUT.md [COMMIT]
 #
 # BUILD_DIR holds bin/penumbra and lib/; BENCH_DIR the anchor scenes
-# (../shared/bench). Images go to PFM (no image library is loaded).
+# (../shared/bench); the path scenes are read from BENCH_DIR/../scenes (override
+# with SCENES_DIR=...) and the many-lights scene is generated. Images go to PFM
+# (no image library is loaded).
 set -euo pipefail
 build=$1 bench=$2 out=$3 commit=${4:-$(git rev-parse --short HEAD 2>/dev/null || echo unknown)}
+scenes_dir=${SCENES_DIR:-$bench/../scenes}
+here=$(cd "$(dirname "$0")" && pwd)
 cores=$(nproc)
 export LD_LIBRARY_PATH="$build/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+python3 "$here/make_many_lights.py" --obj "$tmp/many" > /dev/null
 
 threads=()
 for t in 1 2 4 8 16 32 64; do ((t <= cores)) && threads+=("$t"); done
 ((cores > ${threads[-1]})) && threads+=("$cores")
 
+# The path rows are scripts/bench_cycles.py's scenes with its Penumbra options.
+path="--integrator path --light-samples 1 --max-depth 10"
 declare -A scenes=(
-    [room_aa]="room.json --spp 16 --light-samples 16"
-    [room_ls64]="room.json --spp 1 --light-samples 64"
-    [textbook_fig18_04]="textbook_fig18_04.json"
+    [room_aa]="$bench/room.json --spp 16 --light-samples 16"
+    [room_ls64]="$bench/room.json --spp 1 --light-samples 64"
+    [textbook_fig18_04]="$bench/textbook_fig18_04.json"
+    [textbook_fig24_06]="$bench/textbook_fig24_06.json"
+    [cornell_path]="$scenes_dir/cornell_mcguire/CornellBox-Original.obj $path --spp 64 --width 256 --height 256 --eye 0,1,3.9 --look-at 0,1,0 --up 0,1,0 --fov 40"
+    [dragon_env_path]="$scenes_dir/dragon_100k/dragon.obj $path --spp 64 --width 256 --height 192 --eye 12,8,18 --look-at 0,4.5,0 --up 0,1,0 --fov 40 --env 1,1,1"
+    [many_lights_path]="$tmp/many/many_lights.obj $path --spp 16 --width 160 --height 120 --eye 0,5.5,22 --look-at 0,0,0 --up 0,1,0 --fov 28"
 )
-order=(room_aa room_ls64 textbook_fig18_04)
+order=(room_aa room_ls64 textbook_fig18_04 textbook_fig24_06 cornell_path dragon_env_path many_lights_path)
 
 raw="$tmp/raw.txt"
 {
@@ -33,21 +46,24 @@ raw="$tmp/raw.txt"
     echo "Machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $cores cores ($(nproc --all) online), $(uname -sr)."
     echo
     echo "Render time (\`render_seconds\` of \`--stats-json\`, best of 3) and speed-up over 1 thread; the command per"
-    echo "scene is \`penumbra BENCH_DIR/<scene> <options> --threads T -o out.pfm -q --stats-json s.json\`."
+    echo "row is \`penumbra <scene> <options> --threads T -o out.pfm -q --stats-json s.json\` (scenes from"
+    echo "\`../shared/bench\`, \`../shared/scenes\`, and \`scripts/make_many_lights.py --obj\`). The last column says"
+    echo "whether every thread count's image is bit-identical to the one-thread image."
     echo
     header="| scene, options |"
     rule="| --- |"
     for t in "${threads[@]}"; do header+=" ${t}T s (speed-up) |"; rule+=" ---: |"; done
-    echo "$header"
-    echo "$rule"
+    echo "$header identical |"
+    echo "$rule --- |"
 } > "$out"
 
 for name in "${order[@]}"; do
     read -r -a args <<< "${scenes[$name]}"
-    scene="$bench/${args[0]}"
+    scene=${args[0]}
     opts=("${args[@]:1}")
-    row="| \`${args[*]}\` |"
+    row="| $name: \`$(basename "$scene") ${opts[*]}\` |"
     base=""
+    same=yes
     for t in "${threads[@]}"; do
         best=""
         for run in 1 2 3; do
@@ -56,10 +72,16 @@ for name in "${order[@]}"; do
             echo "$name threads=$t run=$run render_seconds=$s" >> "$raw"
             best=$(python3 -c "import sys;a=sys.argv[1];b=float(sys.argv[2]);print(b if a=='' else min(float(a),b))" "$best" "$s")
         done
-        [ -z "$base" ] && base=$best
+        if [ -z "$base" ]; then
+            base=$best
+            cp "$tmp/out.pfm" "$tmp/one.pfm"
+        elif ! cmp -s "$tmp/one.pfm" "$tmp/out.pfm"; then
+            same=no
+            echo "$name threads=$t image differs from threads=1" >> "$raw"
+        fi
         row+=" $(python3 -c "import sys;b=float(sys.argv[1]);x=float(sys.argv[2]);print('%.3f (%.2f)'%(x,b/x))" "$base" "$best") |"
     done
-    echo "$row" >> "$out"
+    echo "$row $same |" >> "$out"
 done
 
 {

@@ -5,21 +5,12 @@
 
 namespace penumbra {
 
-namespace {
-
-// A power as the pickers weigh it: NaN and non-positive ones 0, infinite ones the largest float.
-double weighed(double power) {
-    return power > 0.0 ? std::min(power, double(std::numeric_limits<float>::max())) : 0.0;
-}
-
-}  // namespace
-
 BVHLightPicker::BVHLightPicker(std::span<const std::optional<LightBounds>> bounds, std::span<const double> powers)
     : tree_(bounds, powers), infiniteSlot_(bounds.size(), -1) {
     double treePower = 0.0, infinitePower = 0.0;
     std::vector<double> infinitePowers;
     for (size_t j = 0; j < bounds.size(); ++j) {
-        const double power = j < powers.size() ? weighed(powers[j]) : 0.0;
+        const double power = j < powers.size() ? weighedPower(powers[j]) : 0.0;
         if (bounds[j]) {
             if (tree_.holds(j)) treePower += power;
             continue;

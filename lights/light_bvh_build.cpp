@@ -147,11 +147,11 @@ LightBVH::LightBVH(std::span<const std::optional<LightBounds>> bounds, std::span
     leaves_.resize(bounds.size());
     constexpr float kRange = 1.8e18f;  // the accelerators' coordinates (core/ray.h)
     const auto usable = [&](size_t j) {
-        const double p = j < powers.size() ? powers[j] : 0.0;
-        if (!bounds[j] || !(p > 0.0)) return 0.0;
+        const double p = j < powers.size() ? weighedPower(powers[j]) : 0.0;
+        if (!bounds[j] || p == 0.0) return 0.0;
         const Bounds3f& box = bounds[j]->box;
         if (!(maxAbsComponent(box.lo) <= kRange) || !(maxAbsComponent(box.hi) <= kRange)) return 0.0;
-        return std::min(p, double(std::numeric_limits<float>::max()));
+        return p;
     };
     double strongest = 0.0;
     for (size_t j = 0; j < bounds.size(); ++j) strongest = std::max(strongest, usable(j));

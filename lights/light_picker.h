@@ -7,7 +7,9 @@
 // turn, each with probability 1.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
+#include <limits>
 
 #include "core/math.h"
 
@@ -28,5 +30,11 @@ public:
     /// weight of a BSDF sample that reaches j multiplies its light pdf by.
     virtual float probability(size_t j, const Vec3f& p, const Vec3f& n) const = 0;
 };
+
+/// A light's power as every picker weighs it: NaN and non-positive powers 0 (never
+/// picked), infinite ones the largest float, so that sums stay finite.
+inline double weighedPower(double power) {
+    return power > 0.0 ? std::min(power, double(std::numeric_limits<float>::max())) : 0.0;
+}
 
 }  // namespace penumbra

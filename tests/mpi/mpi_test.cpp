@@ -50,7 +50,8 @@ constexpr const char* kMpiexec = "";
 
 // mpirun with what a container needs: shared memory and loopback only, no
 // single-copy mechanism (ptrace is usually not allowed), root allowed when
-// running as root; `timeout` so that a hang fails the test instead of holding it.
+// running as root; `timeout` so that a hang fails the test instead of holding it,
+// with a KILL ten seconds later for an mpirun that does not end on TERM.
 std::string mpirun(const std::string& contexts) {
     ::setenv("OMPI_MCA_btl_vader_single_copy_mechanism", "none", 1);
     // Under AddressSanitizer (the asan preset), OpenMPI's own allocations that
@@ -58,7 +59,7 @@ std::string mpirun(const std::string& contexts) {
     // at exit; the ranks run without leak checking (later options win).
     if (const char* asan = std::getenv("ASAN_OPTIONS"); asan && std::string(asan).find("detect_leaks=0") == std::string::npos)
         ::setenv("ASAN_OPTIONS", (std::string(asan) + ":detect_leaks=0").c_str(), 1);
-    std::string cmd = "timeout 120 ";
+    std::string cmd = "timeout -k 10 120 ";
     cmd += kMpiexec;
     cmd += " --oversubscribe --mca btl self,vader";
     if (::geteuid() == 0) cmd += " --allow-run-as-root";

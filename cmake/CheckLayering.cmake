@@ -10,8 +10,8 @@
 #   do not include each other; the stack core <- accel, lights <- shading <- api
 #   <- apps points one way. The public headers (api/include/penumbra/) include
 #   only the standard library and each other; below api/ only
-#   <penumbra/types.hpp> (the value types, std-only) may be included, never the
-#   facade; the penumbra CLI (apps/penumbra/, its preview in apps/penumbra/preview/)
+#   <penumbra/types.hpp> (the value types, std-only) and <penumbra/names.hpp>
+#   (their names, std-only) may be included, never the facade; the penumbra CLI (apps/penumbra/, its preview in apps/penumbra/preview/)
 #   and penumbra-mpi (apps/mpi/) include only public headers, like any other
 #   host; CivetWeb only in apps/penumbra/preview/preview_server.cpp.
 # Usage: cmake -DSOURCE_DIR=<repo> -P CheckLayering.cmake
@@ -73,8 +73,8 @@ foreach(_f IN LISTS _files)
     if(_f MATCHES "^(core|accel|lights|shading)/" AND _line MATCHES "\"api/")
       list(APPEND _errors "${_f}: includes the API layer above it: ${_line}")
     endif()
-    if(_f MATCHES "^(core|accel|lights|shading)/" AND _line MATCHES "[<\"]penumbra/" AND NOT _line MATCHES "penumbra/types\\.hpp")
-      list(APPEND _errors "${_f}: below api/ only <penumbra/types.hpp> may be included: ${_line}")
+    if(_f MATCHES "^(core|accel|lights|shading)/" AND _line MATCHES "[<\"]penumbra/" AND NOT _line MATCHES "<penumbra/(types|names)\\.hpp>")
+      list(APPEND _errors "${_f}: below api/ only <penumbra/types.hpp> and <penumbra/names.hpp> may be included: ${_line}")
     endif()
     if(_f MATCHES "^api/include/penumbra/" AND _line MATCHES "\"")
       list(APPEND _errors "${_f}: public header includes a non-public header: ${_line}")
@@ -84,6 +84,9 @@ foreach(_f IN LISTS _files)
     endif()
     if(_f STREQUAL "api/include/penumbra/types.hpp" AND _line MATCHES "<penumbra/")
       list(APPEND _errors "${_f}: the value types include only the standard library: ${_line}")
+    endif()
+    if(_f STREQUAL "api/include/penumbra/names.hpp" AND _line MATCHES "<penumbra/" AND NOT _line MATCHES "<penumbra/types\\.hpp>")
+      list(APPEND _errors "${_f}: the values' names include only the standard library and types.hpp: ${_line}")
     endif()
     if(_line MATCHES "civetweb\\.h|CivetServer\\.h" AND NOT _f STREQUAL "apps/penumbra/preview/preview_server.cpp")
       list(APPEND _errors "${_f}: includes CivetWeb outside apps/penumbra/preview/preview_server.cpp")

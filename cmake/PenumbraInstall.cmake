@@ -30,6 +30,7 @@ install(TARGETS penumbra EXPORT PenumbraTargets
 
 install(FILES
   ${PROJECT_SOURCE_DIR}/api/include/penumbra/penumbra.h
+  ${PROJECT_SOURCE_DIR}/api/include/penumbra/names.hpp
   ${PROJECT_SOURCE_DIR}/api/include/penumbra/penumbra.hpp
   ${PROJECT_SOURCE_DIR}/api/include/penumbra/types.hpp
   ${PROJECT_SOURCE_DIR}/api/include/penumbra/version.h

@@ -11,18 +11,28 @@
 #include <vector>
 
 #include "option_values.h"
+#include <penumbra/names.hpp>
 
 namespace penumbra::cli {
 namespace {
 
 using Refusal = std::function<std::string(const std::string& value)>;
 
-// An enum option's names: CLI11's IsMember refuses any other text (with
-// `refusal`'s message), its Transformer turns a name into the enum's value.
+// An enum option: CLI11's IsMember refuses any text but the names of
+// pnb::EnumNames<E> ("expected auto, all, power or tree, got 'x'" unless
+// `refusal` says otherwise), its Transformer turns a name into the value.
 template <class E>
-CLI::Validator oneOf(const std::vector<std::pair<std::string, E>>& names, Refusal refusal) {
+CLI::Validator oneOf(Refusal refusal = nullptr) {
+    std::vector<std::pair<std::string, E>> names;
     std::vector<std::string> keys;
-    for (const auto& [name, value] : names) keys.push_back(name);
+    for (const auto& entry : pnb::EnumNames<E>::table) {
+        names.emplace_back(entry.name, entry.value);
+        keys.emplace_back(entry.name);
+    }
+    if (!refusal) {
+        const std::string list = pnb::enumNameList<E>();
+        refusal = [list](const std::string& value) { return "expected " + list + ", got '" + value + "'"; };
+    }
     // Held as plain Validators: copying the derived classes would pick their catch-all constructors.
     const CLI::Validator member = CLI::IsMember(keys);
     const CLI::Validator toValue = CLI::Transformer(names);
@@ -32,10 +42,6 @@ CLI::Validator oneOf(const std::vector<std::pair<std::string, E>>& names, Refusa
             return member(probe).empty() ? toValue(value) : refusal(value);
         },
         member.get_description());
-}
-
-Refusal expected(const std::string& names) {
-    return [names](const std::string& value) { return "expected " + names + ", got '" + value + "'"; };
 }
 
 // A finite number (inside `range`, when given), refused with the commands'
@@ -102,27 +108,18 @@ void addSamplingOptions(CLI::App& app, Options& o) {
     app.add_option("--light-selection", o.lightSelection,
                    "auto (default: tree from 8 lights with path, from 256 with whitted, else all), all (every light, "
                    "N samples each), power or tree (N samples in all, lights picked by power or by a light hierarchy)")
-        ->transform(oneOf<LightSelection>({{"auto", LightSelection::Auto},
-                                           {"all", LightSelection::All},
-                                           {"power", LightSelection::Power},
-                                           {"tree", LightSelection::Tree}},
-                                          expected("auto, all, power or tree")));
+        ->transform(oneOf<LightSelection>());
     app.add_option("--integrator", o.integrator, "whitted (default: direct light + mirrors + glass) or path (path tracing)")
-        ->transform(oneOf<IntegratorKind>({{"whitted", IntegratorKind::Whitted}, {"path", IntegratorKind::Path}},
-                                          expected("whitted or path")));
+        ->transform(oneOf<IntegratorKind>());
     app.add_option("--direct-light", o.directLight,
                    "Area-light estimator: mis (light + BRDF samples, default) or light (solid-angle light samples)")
-        ->transform(oneOf<DirectLightSampling>({{"mis", DirectLightSampling::Mis}, {"light", DirectLightSampling::Light}},
-                                               expected("mis or light")));
+        ->transform(oneOf<DirectLightSampling>());
     app.add_option("--accel", o.accel, "Accelerator: embree or naive")
-        ->transform(oneOf<pnb::AcceleratorKind>(
-            {{"embree", pnb::AcceleratorKind::Embree}, {"naive", pnb::AcceleratorKind::Naive}},
-            [](const std::string& v) { return "unknown accelerator '" + v + "' (expected embree or naive)"; }));
+        ->transform(oneOf<pnb::AcceleratorKind>([](const std::string& v) {
+            return "unknown accelerator '" + v + "' (expected " + pnb::enumNameList<pnb::AcceleratorKind>() + ")";
+        }));
     app.add_option("--build-quality", o.buildQuality, "Embree BVH quality: low, medium or high (default)")
-        ->transform(oneOf<pnb::BuildQuality>({{"low", pnb::BuildQuality::Low},
-                                              {"medium", pnb::BuildQuality::Medium},
-                                              {"high", pnb::BuildQuality::High}},
-                                             expected("low, medium or high")));
+        ->transform(oneOf<pnb::BuildQuality>());
 }
 
 void addSceneOptions(CLI::App& app, Options& o) {
@@ -150,10 +147,7 @@ void addSceneOptions(CLI::App& app, Options& o) {
     app.add_option("--env-rotate", o.envRotate, "Turn the --env image by DEG about +y")
         ->check(finiteNumber("must be finite"));
     app.add_option("--model", o.model, "Phong model of mesh and model files' materials: classic or normalized (default)")
-        ->transform(oneOf<pnb::PhongModel>({{"classic", pnb::PhongModel::Classic},
-                                            {"normalized", pnb::PhongModel::Normalized},
-                                            {"normalised", pnb::PhongModel::Normalized}},
-                                           expected("classic or normalized")));
+        ->transform(oneOf<pnb::PhongModel>());
     app.add_option("--smooth-angle", o.smoothAngle,
                    "Smooth meshes without normals across edges under this angle in degrees (default 30; 0 = faceted)")
         ->check(finiteNumber("must lie in [0, 180] degrees", CLI::Range(0.0, 180.0)));

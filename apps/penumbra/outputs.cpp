@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <penumbra/names.hpp>
 #include <penumbra/penumbra.hpp>
 
 namespace penumbra::cli {
@@ -125,7 +126,7 @@ nlohmann::json statisticsHeader(const Options& o, const pnb::RenderSettings& s, 
     j["light_samples"] = s.lightSamples;
     j["max_depth"] = s.maxDepth;
     j["seed"] = s.seed;
-    j["integrator"] = s.integrator == pnb::IntegratorKind::Path ? "path" : "whitted";
+    j["integrator"] = std::string(pnb::enumName(s.integrator));
     return j;
 }
 

@@ -20,6 +20,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include <penumbra/names.hpp>
 #include "shading/renderer.h"
 
 namespace penumbra::scale {
@@ -78,9 +79,6 @@ struct ScaleOptions {
     std::string quality = "high", output, jsonPath;
 };
 
-const std::map<std::string, BuildQuality> kQualities{
-    {"low", BuildQuality::Low}, {"medium", BuildQuality::Medium}, {"high", BuildQuality::High}};
-
 /// The options, or the exit code when parsing ended the program (help, a usage error).
 std::optional<ScaleOptions> parseOptions(int argc, char** argv, int& exitCode) {
     ScaleOptions o;
@@ -99,7 +97,11 @@ std::optional<ScaleOptions> parseOptions(int argc, char** argv, int& exitCode) {
     app.add_option("--threads", s.threads, "Render threads (0 = all cores)")->capture_default_str();
     app.add_option("--quality", o.quality, "Embree BVH quality: low, medium or high")
         ->capture_default_str()
-        ->check(CLI::IsMember(kQualities));
+        ->check(CLI::Validator(
+            [](std::string& v) {
+                return pnb::enumFromName<BuildQuality>(v) ? "" : "expected " + pnb::enumNameList<BuildQuality>() + ", got '" + v + "'";
+            },
+            "QUALITY"));
     app.add_option("-o,--output", o.output, "Also write the image (.exr, .png, ...)");
     app.add_option("--json", o.jsonPath, "Write the report as JSON");
     try {
@@ -154,7 +156,7 @@ Measured measure(const ScaleOptions& o) {
 
     Logger log;
     PrepareOptions prep;
-    prep.quality = kQualities.at(o.quality);
+    prep.quality = *pnb::enumFromName<BuildQuality>(o.quality);
     t0 = Clock::now();
     PreparedScene prepared(std::move(scene), prep, log);
     m.prepareSeconds = secondsSince(t0);

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <type_traits>
+
+#include <penumbra/names.hpp>
 
 namespace penumbra {
 namespace fs = std::filesystem;
@@ -50,6 +53,18 @@ SettingsPatch SceneReader::readRender(const Json& j, const std::string& ptr) con
     auto intKey = [&](const char* key, std::optional<int>& dst, int64_t lo, int64_t hi) {
         if (const Json* v = find(j, key)) dst = static_cast<int>(integer(*v, child(ptr, key), lo, hi));
     };
+    // An enum setting, spelled as pnb::EnumNames spells it.
+    auto enumKey = [&](const char* key, auto& dst) {
+        using E = typename std::remove_reference_t<decltype(dst)>::value_type;
+        if (const Json* v = find(j, key)) {
+            const std::string kp = child(ptr, key);
+            const std::string s = string(*v, kp);
+            if (const std::optional<E> e = pnb::enumFromName<E>(s))
+                dst = *e;
+            else
+                fail(ErrorCode::InvalidScene, kp, "must be " + pnb::enumNameList<E>("\"") + ", got " + quotedValue(s));
+        }
+    };
     intKey("width", p.width, 1, 1 << 16);
     intKey("height", p.height, 1, 1 << 16);
     intKey("spp", p.spp, 1, 1 << 20);
@@ -64,30 +79,8 @@ SettingsPatch SceneReader::readRender(const Json& j, const std::string& ptr) con
         else
             p.seed = static_cast<uint64_t>(integer(*v, sp, 0, std::numeric_limits<int64_t>::max()));
     }
-    if (const Json* v = find(j, "light_selection")) {
-        std::string sp = child(ptr, "light_selection");
-        std::string s = string(*v, sp);
-        if (s == "auto")
-            p.lightSelection = LightSelection::Auto;
-        else if (s == "all")
-            p.lightSelection = LightSelection::All;
-        else if (s == "power")
-            p.lightSelection = LightSelection::Power;
-        else if (s == "tree")
-            p.lightSelection = LightSelection::Tree;
-        else
-            fail(ErrorCode::InvalidScene, sp, "must be \"auto\", \"all\", \"power\" or \"tree\", got " + quotedValue(s));
-    }
-    if (const Json* v = find(j, "integrator")) {
-        std::string sp = child(ptr, "integrator");
-        std::string s = string(*v, sp);
-        if (s == "whitted")
-            p.integrator = IntegratorKind::Whitted;
-        else if (s == "path")
-            p.integrator = IntegratorKind::Path;
-        else
-            fail(ErrorCode::InvalidScene, sp, "must be \"whitted\" or \"path\", got " + quotedValue(s));
-    }
+    enumKey("light_selection", p.lightSelection);
+    enumKey("integrator", p.integrator);
     return p;
 }
 }  // namespace penumbra

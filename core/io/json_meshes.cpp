@@ -9,6 +9,7 @@
 
 #include "core/io/input_file.h"
 #include "core/io/model_file.h"
+#include <penumbra/names.hpp>
 
 namespace penumbra {
 namespace fs = std::filesystem;
@@ -23,12 +24,10 @@ void SceneReader::readObjMesh(const Json& j, const std::string& ptr, Scene& scen
     if (const Json* v = find(j, "model")) {
         const std::string mp = child(ptr, "model");
         const std::string model = string(*v, mp);
-        if (model == "normalized" || model == "normalised")
-            options.meshModel = PhongModel::Normalized;
-        else if (model == "classic")
-            options.meshModel = PhongModel::Classic;
+        if (const std::optional<PhongModel> m = pnb::enumFromName<PhongModel>(model))
+            options.meshModel = *m;
         else
-            fail(ErrorCode::ParseError, mp, "expected \"classic\" or \"normalized\", got \"" + model + "\"");
+            fail(ErrorCode::ParseError, mp, "expected " + pnb::enumNameList<PhongModel>("\"") + ", got \"" + model + "\"");
     }
     if (const Json* v = find(j, "smooth_angle")) {
         const std::string sp = child(ptr, "smooth_angle");

@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace py = pybind11;
@@ -105,6 +106,19 @@ py::object makeImage(std::shared_ptr<PyFramebuffer> fb, const pnb::RenderStats& 
 pnb::RenderSettings settingsWith(pnb::RenderSettings base, const py::kwargs& kwargs);
 /// Converts a str or os.PathLike to a path string.
 std::string pathString(const py::handle& path);
+
+/// A setting given as an enum value or by its name (pnb::EnumNames, the
+/// command line's spelling); another name raises penumbra.Error.
+template <class E>
+E enumFrom(const py::handle& value, const char* setting) {
+    if (py::isinstance<py::str>(value)) {
+        const std::string s = value.cast<std::string>();
+        if (const std::optional<E> e = pnb::enumFromName<E>(s)) return *e;
+        throw pnb::Error(pnb::ErrorCode::InvalidArgument,
+                         std::string(setting) + " must be " + pnb::enumNameList<E>("'") + ", got '" + s + "'");
+    }
+    return value.cast<E>();
+}
 
 /// A penumbra.Error instance carrying the message and code of `e`.
 py::object errorObject(const pnb::Error& e);

@@ -32,15 +32,7 @@ bool interpreterAlive() {
 }
 
 // prepare()'s accelerator: an AcceleratorKind, or its name as the command line spells it.
-pnb::AcceleratorKind acceleratorFrom(const py::handle& value) {
-    if (py::isinstance<py::str>(value)) {
-        const std::string s = value.cast<std::string>();
-        if (s == "embree") return pnb::AcceleratorKind::Embree;
-        if (s == "naive") return pnb::AcceleratorKind::Naive;
-        throw pnb::Error(pnb::ErrorCode::InvalidArgument, "accelerator must be 'embree' or 'naive', got '" + s + "'");
-    }
-    return value.cast<pnb::AcceleratorKind>();
-}
+pnb::AcceleratorKind acceleratorFrom(const py::handle& value) { return enumFrom<pnb::AcceleratorKind>(value, "accelerator"); }
 
 // ---- resolving the arguments every render takes
 

@@ -71,48 +71,12 @@ std::optional<pnb::CropWindow> cropFrom(const py::handle& value) {
                            intSetting("crop y1", v[3])};
 }
 
-// The names of pnb::LightSelection's values, as the CLI spells them.
-constexpr std::pair<const char*, pnb::LightSelection> kSelectionNames[] = {
-    {"auto", pnb::LightSelection::Auto},
-    {"all", pnb::LightSelection::All},
-    {"power", pnb::LightSelection::Power},
-    {"tree", pnb::LightSelection::Tree},
-};
+pnb::LightSelection selectionFrom(const py::handle& value) { return enumFrom<pnb::LightSelection>(value, "light_selection"); }
 
-pnb::LightSelection selectionFrom(const py::handle& value) {
-    if (py::isinstance<py::str>(value)) {
-        const std::string s = value.cast<std::string>();
-        for (const auto& [name, selection] : kSelectionNames)
-            if (s == name) return selection;
-        invalid("light_selection must be 'auto', 'all', 'power' or 'tree', got '" + s + "'");
-    }
-    return value.cast<pnb::LightSelection>();
-}
-
-const char* selectionName(pnb::LightSelection s) {
-    for (const auto& [name, selection] : kSelectionNames)
-        if (s == selection) return name;
-    return "auto";
-}
-
-pnb::IntegratorKind integratorFrom(const py::handle& value) {
-    if (py::isinstance<py::str>(value)) {
-        const std::string s = value.cast<std::string>();
-        if (s == "whitted") return pnb::IntegratorKind::Whitted;
-        if (s == "path") return pnb::IntegratorKind::Path;
-        invalid("integrator must be 'whitted' or 'path', got '" + s + "'");
-    }
-    return value.cast<pnb::IntegratorKind>();
-}
+pnb::IntegratorKind integratorFrom(const py::handle& value) { return enumFrom<pnb::IntegratorKind>(value, "integrator"); }
 
 pnb::DirectLightSampling directLightFrom(const py::handle& value) {
-    if (py::isinstance<py::str>(value)) {
-        const std::string s = value.cast<std::string>();
-        if (s == "mis") return pnb::DirectLightSampling::Mis;
-        if (s == "light") return pnb::DirectLightSampling::Light;
-        invalid("direct_light must be 'mis' or 'light', got '" + s + "'");
-    }
-    return value.cast<pnb::DirectLightSampling>();
+    return enumFrom<pnb::DirectLightSampling>(value, "direct_light");
 }
 
 py::object cropTuple(const std::optional<pnb::CropWindow>& c) {
@@ -128,11 +92,10 @@ std::string settingsRepr(const pnb::RenderSettings& s) {
     if (s.crop)
         r += ", crop=(" + std::to_string(s.crop->x0) + ", " + std::to_string(s.crop->y0) + ", " +
              std::to_string(s.crop->x1) + ", " + std::to_string(s.crop->y1) + ")";
-    r += std::string(", light_selection='") + selectionName(s.lightSelection) + "'";
+    r += ", light_selection='" + std::string(pnb::enumName(s.lightSelection)) + "'";
     r += std::string(", aovs=") + (s.aovs ? "True" : "False");
-    r += std::string(", integrator='") + (s.integrator == pnb::IntegratorKind::Path ? "path" : "whitted") + "'";
-    const char* direct[] = {"mis", "light"};
-    r += std::string(", direct_light='") + direct[static_cast<int>(s.directLight)] + "')";
+    r += ", integrator='" + std::string(pnb::enumName(s.integrator)) + "'";
+    r += ", direct_light='" + std::string(pnb::enumName(s.directLight)) + "')";
     return r;
 }
 

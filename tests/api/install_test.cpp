@@ -115,7 +115,7 @@ TEST(Install, HostProjectsBuildAgainstTheInstalledPackage) {
     std::set<std::string> headers;
     for (const auto& e : fs::recursive_directory_iterator(prefix / "include"))
         if (e.is_regular_file()) headers.insert(fs::relative(e.path(), prefix / "include").string());
-    EXPECT_EQ(headers, (std::set<std::string>{"penumbra/penumbra.h", "penumbra/penumbra.hpp", "penumbra/types.hpp",
+    EXPECT_EQ(headers, (std::set<std::string>{"penumbra/names.hpp", "penumbra/penumbra.h", "penumbra/penumbra.hpp", "penumbra/types.hpp",
                                               "penumbra/version.h"}));
     const std::vector<std::string> hppIncludes = includesOf(prefix / "include" / "penumbra" / "penumbra.hpp");
     EXPECT_NE(std::find(hppIncludes.begin(), hppIncludes.end(), "penumbra/version.h"), hppIncludes.end());

@@ -10,6 +10,7 @@
 // renderers can work in one process at the same time.
 #pragma once
 
+#include <penumbra/names.hpp>
 #include <penumbra/types.hpp>
 #include <penumbra/version.h>
 

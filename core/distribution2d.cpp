@@ -30,12 +30,25 @@ Distribution1D::Distribution1D(std::span<const float> f) : func_(f.begin(), f.en
     // Normalise the cells to a density on [0, 1): pdf(i) = f_i / mean(f).
     const float invMean = float(double(n) / sum);
     for (float& v : func_) v *= invMean;
+    // One slot per cell; the CDF is non-decreasing, so each slot's entries are a run.
+    guide_.assign(n + 1, uint32_t(n + 1));
+    for (size_t j = n + 1; j-- > 0;) guide_[size_t(slotOf(cdf_[j]))] = uint32_t(j);
+    for (size_t k = n; k-- > 0;) guide_[k] = std::min(guide_[k], guide_[k + 1]);
+}
+
+int Distribution1D::slotOf(float u) const {
+    const float s = u * float(size());
+    return s > 0.f ? int(std::min(s, float(size() - 1))) : 0;
 }
 
 Distribution1D::Sample Distribution1D::sample(float u) const {
     const int n = size();
-    // The last cell whose cdf start is <= u (cells of zero width are never chosen).
-    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+    // The last cell whose cdf start is <= u (cells of zero width are never
+    // chosen): the first entry above u. Entries of earlier slots are below u
+    // and those of later slots above it, so it lies among u's slot's entries
+    // or is the first of the next slot's.
+    const int k = slotOf(u);
+    const auto it = std::upper_bound(cdf_.begin() + guide_[size_t(k)], cdf_.begin() + guide_[size_t(k) + 1], u);
     int i = std::clamp(int(it - cdf_.begin()) - 1, 0, n - 1);
     while (i > 0 && !(func_[size_t(i)] > 0.f)) --i;  // u == 1 rounding onto a trailing empty cell
     const float lo = cdf_[size_t(i)], hi = cdf_[size_t(i) + 1];

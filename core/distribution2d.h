@@ -2,8 +2,14 @@
 // CDFs (continuous, so a sample lands anywhere inside its cell). The 2D one
 // picks a row by its marginal, then a column by that row's conditional; the
 // environment light uses it over its lat-long image.
+//
+// The inversion searches only the few CDF entries a guide table leaves
+// (Chen and Asau's cutpoints): a binary search over a whole row of a 1k map
+// missed the cache at almost every step. It finds the cell the search over
+// the whole CDF finds, bit for bit.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -32,8 +38,14 @@ public:
     float integral() const { return integral_; }
 
 private:
+    /// The guide slot of u: monotone in u, so the CDF entries in slot k
+    /// bound the search for every u in it.
+    int slotOf(float u) const;
+
     std::vector<float> func_;  // cleaned f, or all ones when f integrates to 0
     std::vector<float> cdf_;   // size n + 1, cdf_[0] = 0, cdf_[n] = 1
+    // guide_[k]: the first CDF entry whose slot is k or later (n + 1 slots, one past the last).
+    std::vector<uint32_t> guide_;
     float integral_ = 0.f;
 };
 

@@ -36,22 +36,31 @@ struct Level {
     std::vector<float> f32;
 };
 
+// The remainder of an integral v by period, in [0, period): by integers where v
+// fits them (fmod's exact loop is slow, and every filtered lookup wraps four
+// indices), else by fmod; both are exact, so the value is the same.
+double wrapped(double v, int period) {
+    if (std::fabs(v) < 0x1p52) {  // false for NaN: fmod's way
+        const int64_t m = int64_t(v) % period;
+        return double(m < 0 ? m + period : m);
+    }
+    const double m = std::fmod(v, double(period));
+    return m < 0 ? m + period : m;
+}
+
 // The texel index along an axis of n texels for the texel at (integral) v,
 // which may lie anywhere: glTF's wrap modes.
 int wrapIndex(double v, int n, TextureWrap mode) {
     switch (mode) {
         case TextureWrap::ClampToEdge: return v < 0.0 ? 0 : v >= double(n) ? n - 1 : int(v);
         case TextureWrap::MirroredRepeat: {
-            double m = std::fmod(v, 2.0 * n);
-            if (m < 0) m += 2.0 * n;
-            int i = int(m);
+            int i = int(wrapped(v, 2 * n));
             if (i >= 2 * n) i = 0;
             return i < n ? i : 2 * n - 1 - i;
         }
         case TextureWrap::Repeat: break;
     }
-    const double m = std::fmod(v, double(n));
-    const int i = int(m < 0 ? m + n : m);
+    const int i = int(wrapped(v, n));
     return i >= n ? 0 : i;
 }
 

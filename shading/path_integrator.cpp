@@ -26,6 +26,8 @@ struct PathVertexLane {
     BsdfLobes lobes;       // at the current vertex
 };
 
+static_assert(Integrator::kMaxBatch <= size_t(OwenSobol2D::kLanes), "a batch's bounces fit one set of lanes");
+
 PathIntegrator::PathIntegrator(const IntegratorInputs& in)
     : Integrator(in.accel), lights_(in.lights), settings_(in.settings), surfaces_(in.scene, in.textures, in.pixelSpread),
       direct_(in.scene, in.accel, in.lights,
@@ -65,11 +67,8 @@ void PathIntegrator::shadeVertices(std::span<PathVertexLane> lanes, std::span<ui
     }
 }
 
-bool PathIntegrator::scatter(PathVertexLane& lane, int depth, RayCounts& counts) const {
+bool PathIntegrator::scatter(PathVertexLane& lane, int depth, Vec2f u, RayCounts& counts) const {
     const ShadingPoint& sp = lane.sp;
-    // One point per camera sample: the pixel's bounces are stratified too.
-    const VertexDimensions dims(depth, lights_.size());
-    const Vec2f u = dimensionSequence(lane.key, dims.bsdf()).point(lane.key.index);
     const std::optional<BsdfBounce> b = sampleBsdf(sp, lane.lobes, u);
     if (!b) return false;
     ++(b->transmitted ? counts.transmission : b->delta ? counts.reflection : counts.indirect);
@@ -117,13 +116,16 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
         };
         direct_.addTo(batch, lit, depth, counts);
 
-        // The bounces of the lanes that go on, traced together.
+        // The bounces of the lanes that go on, traced together. One point per
+        // camera sample: the pixel's bounces are stratified too.
+        alignas(64) float ux[OwenSobol2D::kLanes], uy[OwenSobol2D::kLanes];
+        dimensionPointLanes(keys.data(), n, VertexDimensions(depth, lights_.size()).bsdf(), ux, uy);
         Ray next[kMaxBatch];
         uint8_t nextLane[kMaxBatch];
         size_t nNext = 0;
         for (size_t i = 0; i < n; ++i) {
             if (!active[i]) continue;
-            if (!scatter(lanes[i], depth, counts)) {
+            if (!scatter(lanes[i], depth, Vec2f{ux[i], uy[i]}, counts)) {
                 active[i] = 0;
                 continue;
             }

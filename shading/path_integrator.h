@@ -46,8 +46,9 @@ private:
     /// at `depth`; the lanes that end there become inactive.
     void shadeVertices(std::span<PathVertexLane> lanes, std::span<uint8_t> active, int depth,
                        std::span<FirstHit> firstHits) const;
-    /// Samples the lane's next direction; false when the path ends there.
-    bool scatter(PathVertexLane& lane, int depth, RayCounts& counts) const;
+    /// Samples the lane's next direction with the point u of its bounce
+    /// dimension; false when the path ends there.
+    bool scatter(PathVertexLane& lane, int depth, Vec2f u, RayCounts& counts) const;
 
     const LightSet& lights_;
     RenderSettings settings_;

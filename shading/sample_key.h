@@ -36,6 +36,23 @@ inline uint64_t dimensionKey(const SampleKey& key, uint32_t dim) {
 }
 inline OwenSobol2D dimensionSequence(const SampleKey& key, uint32_t dim) { return OwenSobol2D(dimensionKey(key, dim)); }
 
+/// The points that camera samples keys[0 .. n) draw in dimension `dim`, one
+/// each: dimensionSequence(keys[l], dim).point(keys[l].index) as x[l], y[l],
+/// the same values, as loops over the lanes (OwenSobol2D::pointLanes). For a
+/// batch's lanes that each take one sample at a shading point.
+inline void dimensionPointLanes(const SampleKey* keys, size_t n, uint32_t dim, float (&x)[OwenSobol2D::kLanes],
+                                float (&y)[OwenSobol2D::kLanes]) {
+    constexpr size_t W = OwenSobol2D::kLanes;
+    alignas(64) uint64_t lanesKey[W];
+    alignas(64) uint32_t index[W];
+    alignas(64) const uint32_t first[W] = {};
+    for (size_t l = 0; l < W; ++l) {
+        lanesKey[l] = l < n ? dimensionKey(keys[l], dim) : 0;
+        index[l] = l < n ? keys[l].index : 0;
+    }
+    OwenSobol2D::pointLanes(lanesKey, index, 1, first, x, y);
+}
+
 /// The one layout of the dimensions a shading point draws from, for every
 /// integrator: the shading points at bounce depth d (the camera ray's hit is
 /// depth 0, a path's next vertex or a mirror's reflection depth 1, ...) own

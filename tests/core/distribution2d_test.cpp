@@ -2,6 +2,8 @@
 // with the right density, and the 2D density integrates to 1.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
 #include <vector>
 
 #include "core/distribution2d.h"
@@ -39,6 +41,40 @@ TEST(Distribution1D, AllZeroOrBadValuesSampleUniformly) {
     EXPECT_EQ(d.integral(), 0.f);
     for (int i = 0; i < 3; ++i) EXPECT_FLOAT_EQ(d.pdf(i), 1.f);
     EXPECT_EQ(d.sample(0.5f).cell, 1);
+}
+
+// The guided search finds, for every u, the cell whose CDF interval holds it,
+// also for u on and next to the interval ends, in a peaky row with runs of
+// empty cells and cells far narrower than a guide slot.
+TEST(Distribution1D, EveryUFallsInItsCellsCdfInterval) {
+    std::mt19937 rng(7);
+    std::vector<float> f(300);
+    for (size_t i = 0; i < f.size(); ++i) {
+        const float r = std::uniform_real_distribution<float>(0.f, 1.f)(rng);
+        f[i] = i % 7 == 3 || (i > 100 && i < 140) ? 0.f : std::pow(r, 12.f) * (i == 200 ? 1e6f : 1.f);
+    }
+    Distribution1D d(f);
+    // The CDF as the distribution builds it.
+    double sum = 0.0;
+    for (float v : f) sum += v;
+    std::vector<float> cdf(f.size() + 1, 0.f);
+    double acc = 0.0;
+    for (size_t i = 0; i < f.size(); ++i) {
+        acc += f[i];
+        cdf[i + 1] = float(acc / sum);
+    }
+    cdf.back() = 1.f;
+    std::vector<float> us;
+    for (float c : cdf)
+        for (float u : {std::nextafter(c, 0.f), c, std::nextafter(c, 2.f)})
+            if (u >= 0.f && u < 1.f) us.push_back(u);
+    for (int k = 0; k < 20000; ++k) us.push_back(std::uniform_real_distribution<float>(0.f, 1.f)(rng));
+    for (float u : us) {
+        const Distribution1D::Sample s = d.sample(u);
+        ASSERT_GT(d.pdf(s.cell), 0.f) << "u = " << u;
+        ASSERT_LE(cdf[size_t(s.cell)], u) << "u = " << u;
+        ASSERT_LT(u, cdf[size_t(s.cell) + 1]) << "u = " << u;
+    }
 }
 
 TEST(Distribution2D, DensityIntegratesToOneAndMatchesSamples) {

@@ -236,6 +236,13 @@ TEST(TextureSlots, WrapModesNearestFilterAndTransforms) {
     EXPECT_NEAR(at(mirror, 1.125f), 240.f, 1e-3f);  // texel 3, mirrored
     EXPECT_NEAR(at(mirror, 1.375f), 160.f, 1e-3f);  // texel 2
     EXPECT_NEAR(at(clamp, -3.f), 0.f, 1e-3f);
+    // Far from the image, on both sides: texel -4, -12 and 4096 wrap to 0; mirrored, -4 and -12 to 3.
+    EXPECT_NEAR(at(repeat, -0.875f), 0.f, 1e-3f);
+    EXPECT_NEAR(at(repeat, -2.875f), 0.f, 1e-3f);
+    EXPECT_NEAR(at(repeat, 1024.125f), 0.f, 1e-3f);
+    EXPECT_NEAR(at(mirror, -0.875f), 240.f, 1e-3f);
+    EXPECT_NEAR(at(mirror, -2.875f), 240.f, 1e-3f);
+    EXPECT_NEAR(at(mirror, -1.875f), 0.f, 1e-3f);  // texel -8: mirrored twice, texel 0
     // Bilinear between texels 1 and 2 at s = 0.5; nearest takes one of them.
     TextureRef nearest = slot();
     nearest.filter = TextureFilter::Nearest;

@@ -4,10 +4,11 @@
 
 namespace penumbra {
 
-std::unique_ptr<Accelerator> makeAccelerator(AcceleratorKind kind, const Scene& scene, BuildQuality quality) {
+std::unique_ptr<Accelerator> makeAccelerator(AcceleratorKind kind, const Scene& scene, BuildQuality quality,
+                                             std::shared_ptr<const TextureCache> textures) {
     switch (kind) {
-        case AcceleratorKind::Embree: return makeEmbreeAccelerator(scene, quality);
-        case AcceleratorKind::Naive: return makeNaiveAccelerator(scene);
+        case AcceleratorKind::Embree: return makeEmbreeAccelerator(scene, quality, std::move(textures));
+        case AcceleratorKind::Naive: return makeNaiveAccelerator(scene, std::move(textures));
     }
     throw Error(ErrorCode::InvalidArgument, "accelerator " + std::to_string(int(kind)) + " is not an AcceleratorKind");
 }

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <string>
 
+#include "accel/alpha_test.h"
 #include "accel/shape_bounds.h"
 #include "core/hit.h"
 #include "core/ray.h"
@@ -22,6 +23,8 @@
 #include "core/scene.h"
 
 namespace penumbra {
+
+class TextureCache;
 
 /// The thin answer of a closest-hit query, before Scene::completeHit.
 struct PrimIntersection {
@@ -102,9 +105,10 @@ public:
     }
 
     /// The accelerator of `scene`, a copy of this one's scene whose instances
-    /// may have moved (and whose materials and lights, which no accelerator
-    /// reads, may differ): what did not move is shared, not rebuilt. `buffers`
-    /// keeps alive the scene whose mesh buffers the shared parts read.
+    /// may have moved (and whose materials and lights may differ): what did
+    /// not move is shared, not rebuilt, unless the edited materials change
+    /// which geometry can cut out (AlphaTest::sameGeometries). `buffers` keeps
+    /// alive the scene whose mesh buffers the shared parts read.
     virtual std::unique_ptr<Accelerator> edited(const Scene& scene, std::shared_ptr<const void> buffers) const = 0;
 
     virtual std::string name() const = 0;
@@ -122,8 +126,13 @@ public:
     /// accelerator, not per render pass: a mesh's box is a pass over its triangles.
     const ShapeBounds& shapeBounds() const { return shapeBounds_; }
 
+    /// The alpha cutouts every query applies (accel/alpha_test.h).
+    const AlphaTest& alphaTest() const { return alpha_; }
+
 protected:
-    explicit Accelerator(const Scene& scene) : scene_(scene), shapeBounds_(scene) {}
+    /// `textures` (may be null) are what the alpha cutouts read.
+    Accelerator(const Scene& scene, std::shared_ptr<const TextureCache> textures)
+        : scene_(scene), textures_(textures), alpha_(scene, std::move(textures)), shapeBounds_(scene) {}
     /// The batch forms' one rule: a thin hit completed in place (Scene::completeHit), a miss reset.
     void completeThin(const Ray& ray, const std::optional<PrimIntersection>& thin, std::optional<Hit>& out) const {
         if (thin)
@@ -139,6 +148,8 @@ protected:
     void countInvalidRays(uint64_t n) const { invalidRays_.fetch_add(n, std::memory_order_relaxed); }
 
     const Scene& scene_;
+    std::shared_ptr<const TextureCache> textures_;
+    AlphaTest alpha_;
 
 private:
     ShapeBounds shapeBounds_;
@@ -147,14 +158,18 @@ private:
 
 /// Builds an Embree BVH over a finalized scene. The scene must outlive the
 /// accelerator (its mesh buffers are shared with Embree, not copied).
-/// Throws Error(ErrorCode::Embree) when Embree reports an error.
-std::unique_ptr<Accelerator> makeEmbreeAccelerator(const Scene& scene, BuildQuality quality = BuildQuality::High);
+/// `textures` (the scene's, or null: texture alpha counts as 1) are what the
+/// alpha cutouts read. Throws Error(ErrorCode::Embree) when Embree reports an error.
+std::unique_ptr<Accelerator> makeEmbreeAccelerator(const Scene& scene, BuildQuality quality = BuildQuality::High,
+                                                   std::shared_ptr<const TextureCache> textures = {});
 
 /// The O(N) reference: tests every primitive with the same routines.
-std::unique_ptr<Accelerator> makeNaiveAccelerator(const Scene& scene);
+std::unique_ptr<Accelerator> makeNaiveAccelerator(const Scene& scene,
+                                                  std::shared_ptr<const TextureCache> textures = {});
 
 /// The accelerator of that kind; throws Error(InvalidArgument) for a value that is none.
 std::unique_ptr<Accelerator> makeAccelerator(AcceleratorKind kind, const Scene& scene,
-                                             BuildQuality quality = BuildQuality::High);
+                                             BuildQuality quality = BuildQuality::High,
+                                             std::shared_ptr<const TextureCache> textures = {});
 
 }  // namespace penumbra

@@ -8,6 +8,9 @@
 // out of Embree and are tested analytically here, after the Embree closest-hit
 // query (with tfar clipped to the Embree hit) and before the occlusion query.
 // Both accelerators therefore return identical plane hits.
+//
+// Where the scene has geometry that can cut out (AlphaTest::any), every ray's
+// id field carries its alphaRayKey for the alpha filters (accel/embree_bvh.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -22,7 +25,7 @@
 namespace penumbra {
 namespace {
 
-inline RTCRay toRtcRay(const Ray& r, float tfar) {
+inline RTCRay toRtcRay(const Ray& r, float tfar, bool keyed) {
     RTCRay ray;
     ray.org_x = r.o.x;
     ray.org_y = r.o.y;
@@ -34,18 +37,23 @@ inline RTCRay toRtcRay(const Ray& r, float tfar) {
     ray.time = 0.f;
     ray.tfar = tfar;
     ray.mask = ~0u;
-    ray.id = 0;
+    ray.id = keyed ? alphaRayKey(r) : 0;
     ray.flags = 0;
     return ray;
 }
 
 class EmbreeAccelerator final : public Accelerator {
 public:
-    EmbreeAccelerator(const Scene& scene, BuildQuality quality) : Accelerator(scene), bvh_(scene, quality) {}
+    EmbreeAccelerator(const Scene& scene, BuildQuality quality, std::shared_ptr<const TextureCache> textures)
+        : Accelerator(scene, std::move(textures)), quality_(quality), bvh_(scene, quality, alpha_) {}
     EmbreeAccelerator(const EmbreeAccelerator& base, const Scene& scene, std::shared_ptr<const void> buffers)
-        : Accelerator(scene), bvh_(base.bvh_, scene, std::move(buffers)) {}
+        : Accelerator(scene, base.textures_), quality_(base.quality_), bvh_(base.bvh_, scene, std::move(buffers)) {}
 
     std::unique_ptr<Accelerator> edited(const Scene& scene, std::shared_ptr<const void> buffers) const override {
+        // The shared geometries carry the base's filters: edited materials
+        // that change which geometry can cut out need a BVH of their own.
+        if (!alpha_.sameGeometries(AlphaTest(scene, textures_)))
+            return std::make_unique<EmbreeAccelerator>(scene, quality_, textures_);
         return std::make_unique<EmbreeAccelerator>(*this, scene, std::move(buffers));
     }
 
@@ -55,16 +63,15 @@ public:
         std::optional<PrimIntersection> best;
         Ray r = ray;
         if (bvh_.hasGeometry()) {
-            RTCIntersectContext ctx;
-            rtcInitIntersectContext(&ctx);
+            EmbreeQueryContext ctx(bvh_, alpha_);
             RTCRayHit rh;
-            rh.ray = toRtcRay(ray, ray.tfar);
+            rh.ray = toRtcRay(ray, ray.tfar, alpha_.any());
             rh.hit.Ng_x = rh.hit.Ng_y = rh.hit.Ng_z = 0.f;
             rh.hit.u = rh.hit.v = 0.f;
             rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
             rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             for (unsigned& id : rh.hit.instID) id = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect1(bvh_.scene(), &ctx, &rh);
+            rtcIntersect1(bvh_.scene(), &ctx.embree, &rh);
             if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
                 best = PrimIntersection{bvh_.refOf(rh.hit.geomID, rh.hit.primID, rh.hit.instID[0]), rh.ray.tfar,
                                         rh.hit.u, rh.hit.v};
@@ -133,6 +140,7 @@ public:
     template <int W, class PacketRay>
     void loadLanes(std::span<const Ray> rays, int n, PacketRay& p, int* ok) const {
         for (int l = 0; l < W; ++l) setLane(p, l, l < n ? rays[l] : kIdleLane);
+        keyLanes<W>(p);
         int invalid = 0;
         for (int l = 0; l < W; ++l) {
             ok[l] = isValidRayComponents(p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
@@ -214,10 +222,9 @@ public:
         alignas(64) int query[W];  // the lanes Embree answers: valid ones that meet its bounds
         for (int l = 0; l < W; ++l) query[l] = valid[l];
         if (any && bvh_.hasGeometry() && keepLanesInRootBounds<W>(rh.ray, query)) {
-            RTCIntersectContext ctx;
-            rtcInitIntersectContext(&ctx);
-            if (coherent && sharesOneOctant<W>(rh.ray, query)) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-            Packet<W>::intersect(query, bvh_.scene(), &ctx, &rh);
+            EmbreeQueryContext ctx(bvh_, alpha_);
+            if (coherent && sharesOneOctant<W>(rh.ray, query)) ctx.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+            Packet<W>::intersect(query, bvh_.scene(), &ctx.embree, &rh);
         }
         // Planes after Embree, each against the lane's closest hit so far
         // (Embree shrank tfar to it), as closerPlane does for one ray.
@@ -296,6 +303,15 @@ public:
             pr.id[l] = static_cast<unsigned>(l);
             pr.flags[l] = 0;
         }
+        keyLanes<W>(pr);
+    }
+
+    // The lanes' ids become their rays' alphaRayKey where the alpha filters read them.
+    template <int W, class PacketRay>
+    [[gnu::always_inline]] void keyLanes(PacketRay& p) const {
+        if (!alpha_.any()) return;
+        for (int l = 0; l < W; ++l)
+            p.id[l] = alphaRayKey(p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l]);
     }
 
     // The occlusion query of a loaded packet whose valid lanes ok[] marks
@@ -323,9 +339,8 @@ public:
         for (int l = 0; l < n; ++l) out[l] = static_cast<uint8_t>(blocked[l]);
         if (!any || !keepLanesInRootBounds<W>(pr, valid)) return;
         if (shapeBounds().available() && !keepLanesMeetingShapes<W>(pr, valid)) return;
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        Packet<W>::occluded(valid, bvh_.scene(), &ctx, &pr);
+        EmbreeQueryContext ctx(bvh_, alpha_);
+        Packet<W>::occluded(valid, bvh_.scene(), &ctx.embree, &pr);
         for (int l = 0; l < n; ++l)
             if (valid[l] && pr.tfar[l] == -kInfinity) out[l] = 1;
     }
@@ -343,10 +358,9 @@ public:
         for (const auto& p : scene_.planes)
             if (penumbra::intersect(p, r)) return true;
         if (!bvh_.hasGeometry()) return false;
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        RTCRay q = toRtcRay(r, r.tfar);
-        rtcOccluded1(bvh_.scene(), &ctx, &q);
+        EmbreeQueryContext ctx(bvh_, alpha_);
+        RTCRay q = toRtcRay(r, r.tfar, alpha_.any());
+        rtcOccluded1(bvh_.scene(), &ctx.embree, &q);
         return q.tfar == -kInfinity;
     }
 
@@ -445,13 +459,15 @@ private:
         return any != 0;
     }
 
+    BuildQuality quality_;
     EmbreeBvh bvh_;
 };
 
 }  // namespace
 
-std::unique_ptr<Accelerator> makeEmbreeAccelerator(const Scene& scene, BuildQuality quality) {
-    return std::make_unique<EmbreeAccelerator>(scene, quality);
+std::unique_ptr<Accelerator> makeEmbreeAccelerator(const Scene& scene, BuildQuality quality,
+                                                   std::shared_ptr<const TextureCache> textures) {
+    return std::make_unique<EmbreeAccelerator>(scene, quality, std::move(textures));
 }
 
 }  // namespace penumbra

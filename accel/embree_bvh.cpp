@@ -173,8 +173,9 @@ const char* errorName(RTCError code) {
 
 }  // namespace
 
-EmbreeBvh::EmbreeBvh(const Scene& scene, BuildQuality quality) : sceneData_(scene), quality_(toEmbree(quality)) {
-    build(quality_);
+EmbreeBvh::EmbreeBvh(const Scene& scene, BuildQuality quality, const AlphaTest& alpha)
+    : sceneData_(scene), quality_(toEmbree(quality)) {
+    build(quality_, alpha);
 }
 
 EmbreeBvh::EmbreeBvh(const EmbreeBvh& base, const Scene& scene, std::shared_ptr<const void> buffers)
@@ -239,7 +240,31 @@ void EmbreeBvh::check(const char* what) {
     throw Error(ErrorCode::Embree, msg);
 }
 
-void EmbreeBvh::build(RTCBuildQuality quality) {
+// Rejects the candidate hits of the valid lanes where the alpha rule says
+// the surface is not there (both the intersection and the occlusion filter).
+void EmbreeBvh::alphaFilter(const RTCFilterFunctionNArguments* args) {
+    const auto* ctx = reinterpret_cast<const EmbreeQueryContext*>(args->context);
+    const unsigned n = args->N;
+    RTCRayN* rays = args->ray;
+    RTCHitN* hits = args->hit;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] == 0) continue;
+        const PrimRef ref = ctx->bvh->refOf(RTCHitN_geomID(hits, n, i), RTCHitN_primID(hits, n, i),
+                                            RTCHitN_instID(hits, n, i, 0));
+        // Embree has set tfar to the candidate's distance.
+        if (!ctx->alpha->present(rayFromN(rays, n, i), ref, RTCRayN_tfar(rays, n, i), RTCHitN_u(hits, n, i),
+                                 RTCHitN_v(hits, n, i), RTCRayN_id(rays, n, i)))
+            args->valid[i] = 0;
+    }
+}
+
+void EmbreeBvh::setAlphaFilter(RTCGeometry geom, bool cuts) {
+    if (!cuts) return;
+    rtcSetGeometryIntersectFilterFunction(geom, &alphaFilter);
+    rtcSetGeometryOccludedFilterFunction(geom, &alphaFilter);
+}
+
+void EmbreeBvh::build(RTCBuildQuality quality, const AlphaTest& alpha) {
     // PENUMBRA_EMBREE_CONFIG, when set, is Embree's device configuration
     // string (for instance "isa=avx2"): for measuring ISAs, not for use.
     device_ = EmbreeDevice(rtcNewDevice(std::getenv("PENUMBRA_EMBREE_CONFIG")));
@@ -253,7 +278,7 @@ void EmbreeBvh::build(RTCBuildQuality quality) {
 
     if (sceneData_.instances.empty()) {
         rtcScene_ = newScene(quality, "rtcNewScene");
-        buildWorld(rtcScene_.get(), quality);
+        buildWorld(rtcScene_.get(), quality, alpha);
         rtcCommitScene(rtcScene_.get());
         check("rtcCommitScene");
         memoryAfterCommit_ = static_cast<size_t>(std::max<int64_t>(0, log_->memoryBytes.load()));
@@ -261,7 +286,7 @@ void EmbreeBvh::build(RTCBuildQuality quality) {
         return;
     }
     worldScene_ = newScene(quality, "rtcNewScene(world)");
-    buildWorld(worldScene_.get(), quality);
+    buildWorld(worldScene_.get(), quality, alpha);
     if (worldHasGeometry_) {
         rtcCommitScene(worldScene_.get());
         check("rtcCommitScene(world)");
@@ -269,7 +294,7 @@ void EmbreeBvh::build(RTCBuildQuality quality) {
         worldScene_.reset();
     }
     prototypeScenes_.resize(sceneData_.prototypes.size());
-    for (const Instance& in : sceneData_.instances) prototypeScene(in.prototype, quality);
+    for (const Instance& in : sceneData_.instances) prototypeScene(in.prototype, quality, alpha);
     commitTop(quality);
 }
 
@@ -283,15 +308,16 @@ EmbreeScene EmbreeBvh::newScene(RTCBuildQuality quality, const char* what) {
 }
 
 // Every shape and mesh of Scene's own arrays (not the instances), into `target`.
-void EmbreeBvh::buildWorld(RTCScene target, RTCBuildQuality quality) {
+void EmbreeBvh::buildWorld(RTCScene target, RTCBuildQuality quality, const AlphaTest& alpha) {
     const bool before = hasGeometry_;
     hasGeometry_ = false;
     addUserGeometry<Sphere>(target, quality);
     addBoxQuads(target, quality);
-    addRectangleQuads(target, quality);
+    addRectangleQuads(target, quality, alpha.rectanglesCutOut());
     addUserGeometry<Disk>(target, quality);
     for (size_t i = 0; i < sceneData_.meshes.size(); ++i)
-        attachMesh(sceneData_.meshes[i], target, kFirstMeshGeomId + static_cast<unsigned>(i), quality);
+        attachMesh(sceneData_.meshes[i], target, kFirstMeshGeomId + static_cast<unsigned>(i), quality,
+                   alpha.meshCutsOut(sceneData_.meshes[i]));
     worldHasGeometry_ = hasGeometry_ || !sceneData_.meshes.empty();
     hasGeometry_ = before || worldHasGeometry_;
 }
@@ -352,7 +378,7 @@ void EmbreeBvh::addUserGeometry(RTCScene target, RTCBuildQuality quality) {
 
 // A quad geometry from corner positions (4 per quad, in order around it).
 void EmbreeBvh::addQuads(RTCScene target, const std::vector<Vec3f>& corners, unsigned geomId, RTCBuildQuality quality,
-                         const char* what) {
+                         const char* what, bool cuts) {
     if (corners.empty()) return;
     const size_t quads = corners.size() / 4;
     EmbreeGeometry g(rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_QUAD));
@@ -370,6 +396,7 @@ void EmbreeBvh::addQuads(RTCScene target, const std::vector<Vec3f>& corners, uns
         v[3 * i + 2] = corners[i].z;
         idx[i] = static_cast<uint32_t>(i);
     }
+    setAlphaFilter(geom, cuts);
     rtcSetGeometryBuildQuality(geom, quality);
     rtcCommitGeometry(geom);
     check(what);
@@ -400,14 +427,15 @@ void EmbreeBvh::addBoxQuads(RTCScene target, RTCBuildQuality quality) {
 }
 
 // Each rectangle p0, p0 + a, p0 + a + b, p0 + b: Embree's quad (u, v) is then (s, t).
-void EmbreeBvh::addRectangleQuads(RTCScene target, RTCBuildQuality quality) {
+void EmbreeBvh::addRectangleQuads(RTCScene target, RTCBuildQuality quality, bool cuts) {
     std::vector<Vec3f> corners;
     for (const Rectangle& q : sceneData_.rectangles)
         corners.insert(corners.end(), {q.p0, q.p0 + q.a, q.p0 + q.a + q.b, q.p0 + q.b});
-    addQuads(target, corners, kRectangleGeomId, quality, "rectangle quads setup");
+    addQuads(target, corners, kRectangleGeomId, quality, "rectangle quads setup", cuts);
 }
 
-void EmbreeBvh::attachMesh(const TriangleMesh& m, RTCScene target, unsigned geomId, RTCBuildQuality quality) {
+void EmbreeBvh::attachMesh(const TriangleMesh& m, RTCScene target, unsigned geomId, RTCBuildQuality quality,
+                           bool cuts) {
     EmbreeGeometry g(rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE));
     check("rtcNewGeometry(triangle)");
     RTCGeometry geom = g.get();
@@ -417,6 +445,7 @@ void EmbreeBvh::attachMesh(const TriangleMesh& m, RTCScene target, unsigned geom
                                sizeof(Vec3f), m.positions.size());
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.indices.data(), 0,
                                3 * sizeof(uint32_t), m.triangleCount());
+    setAlphaFilter(geom, cuts);
     rtcSetGeometryBuildQuality(geom, quality);
     rtcCommitGeometry(geom);
     check(("mesh '" + m.name + "' setup").c_str());
@@ -425,12 +454,14 @@ void EmbreeBvh::attachMesh(const TriangleMesh& m, RTCScene target, unsigned geom
 }
 
 // The prototype's own scene, built on first use: instances share it.
-RTCScene EmbreeBvh::prototypeScene(uint32_t index, RTCBuildQuality quality) {
+RTCScene EmbreeBvh::prototypeScene(uint32_t index, RTCBuildQuality quality, const AlphaTest& alpha) {
     EmbreeScene& ps = prototypeScenes_[index];
     if (ps) return ps.get();
     const Prototype& p = sceneData_.prototypes[index];
     ps = newScene(quality, "rtcNewScene(prototype)");
-    for (size_t k = 0; k < p.meshes.size(); ++k) attachMesh(p.meshes[k], ps.get(), static_cast<unsigned>(k), quality);
+    for (size_t k = 0; k < p.meshes.size(); ++k)
+        attachMesh(p.meshes[k], ps.get(), static_cast<unsigned>(k), quality,
+                   alpha.prototypeMeshCutsOut(index, static_cast<uint32_t>(k)));
     rtcCommitScene(ps.get());
     check(("rtcCommitScene(prototype '" + p.name + "')").c_str());
     return ps.get();

@@ -45,6 +45,13 @@
 //
 // Planes are infinite and have no bounding box a BVH could hold, so they stay
 // out of Embree: the queries test them analytically.
+//
+// Alpha: the meshes and rectangles whose materials can cut out (AlphaTest)
+// get intersection and occlusion filter functions that ask AlphaTest::present
+// of each candidate hit; opaque geometry gets none and pays nothing. The
+// filters read the rule and this BVH through the query's context
+// (EmbreeQueryContext), and the Blend key of each ray from its id field,
+// which Embree carries unchanged into instances.
 #pragma once
 
 #include <atomic>
@@ -59,14 +66,28 @@
 
 namespace penumbra {
 
+class EmbreeBvh;
+
+/// The context every query hands Embree: Embree's own first (the filters get
+/// a pointer to it), then what the alpha filters read.
+struct EmbreeQueryContext {
+    RTCIntersectContext embree;
+    const EmbreeBvh* bvh;
+    const AlphaTest* alpha;
+
+    EmbreeQueryContext(const EmbreeBvh& b, const AlphaTest& a) : bvh(&b), alpha(&a) { rtcInitIntersectContext(&embree); }
+};
+
 class EmbreeBvh {
 public:
     /// Builds every geometry and commits the scene. Throws Error(Embree) with
     /// the device's messages when Embree reports an error. The scene must
     /// outlive the BVH (its mesh buffers are shared with Embree, not copied).
-    EmbreeBvh(const Scene& scene, BuildQuality quality);
+    /// `alpha` says which geometries get the alpha filters (only read here).
+    EmbreeBvh(const Scene& scene, BuildQuality quality, const AlphaTest& alpha);
     /// The BVH of `scene`, which is base's scene with instances moved (and
-    /// materials or lights changed, which Embree never sees): shares base's
+    /// lights changed, and materials that leave the alpha filters as they
+    /// were: the accelerator checks, AlphaTest::sameGeometries): shares base's
     /// device, world and prototype scenes, and commits a new top level (or
     /// shares base's whole scene when it has no instances). `buffers` owns
     /// the scene whose buffers those shared scenes read.
@@ -119,19 +140,21 @@ private:
     static void errorCallback(void* userPtr, RTCError code, const char* str);
     static bool memoryCallback(void* userPtr, ssize_t bytes, bool post);
     void check(const char* what);
-    void build(RTCBuildQuality quality);
+    void build(RTCBuildQuality quality, const AlphaTest& alpha);
+    static void alphaFilter(const RTCFilterFunctionNArguments* args);
+    static void setAlphaFilter(RTCGeometry geom, bool cuts);
     EmbreeScene newScene(RTCBuildQuality quality, const char* what);
-    void buildWorld(RTCScene target, RTCBuildQuality quality);
+    void buildWorld(RTCScene target, RTCBuildQuality quality, const AlphaTest& alpha);
     void commitTop(RTCBuildQuality quality);
     void setRootBounds();
     template <class Shape>
     void addUserGeometry(RTCScene target, RTCBuildQuality quality);
     void addQuads(RTCScene target, const std::vector<Vec3f>& corners, unsigned geomId, RTCBuildQuality quality,
-                  const char* what);
+                  const char* what, bool cuts = false);
     void addBoxQuads(RTCScene target, RTCBuildQuality quality);
-    void addRectangleQuads(RTCScene target, RTCBuildQuality quality);
-    void attachMesh(const TriangleMesh& m, RTCScene target, unsigned geomId, RTCBuildQuality quality);
-    RTCScene prototypeScene(uint32_t index, RTCBuildQuality quality);
+    void addRectangleQuads(RTCScene target, RTCBuildQuality quality, bool cuts);
+    void attachMesh(const TriangleMesh& m, RTCScene target, unsigned geomId, RTCBuildQuality quality, bool cuts);
+    RTCScene prototypeScene(uint32_t index, RTCBuildQuality quality, const AlphaTest& alpha);
     void addInstance(RTCScene target, unsigned geomId, RTCScene prototype, const Transform& worldFromObject);
 
     const Scene& sceneData_;

@@ -6,6 +6,9 @@
 // prototype's object space (origin and direction by objectFromWorld, the
 // direction not renormalised, so t means the same distance along the ray in
 // both spaces) and meets the prototype's triangles there.
+//
+// A candidate hit on a surface that can cut out counts only where the alpha
+// rule (accel/alpha_test.h) says the surface is there, as Embree's filters do.
 #include <cmath>
 
 #include "accel/accelerator.h"
@@ -15,10 +18,16 @@ namespace {
 
 class NaiveAccelerator final : public Accelerator {
 public:
-    explicit NaiveAccelerator(const Scene& scene) : Accelerator(scene) {}
+    NaiveAccelerator(const Scene& scene, std::shared_ptr<const TextureCache> textures)
+        : Accelerator(scene, std::move(textures)) {}
 
     std::unique_ptr<Accelerator> edited(const Scene& scene, std::shared_ptr<const void>) const override {
-        return std::make_unique<NaiveAccelerator>(scene);
+        return std::make_unique<NaiveAccelerator>(scene, textures_);
+    }
+
+    // Whether the candidate hit h on `ref` counts: the alpha rule, where the surface can cut out.
+    bool present(const Ray& world, const Ray& local, const PrimRef& ref, const PrimHit& h) const {
+        return !alpha_.any() || alpha_.present(local, ref, h.t, h.u, h.v, alphaRayKey(world));
     }
 
     std::optional<PrimIntersection> intersectPrim(const Ray& ray) const override {
@@ -32,8 +41,10 @@ public:
         auto consider = [&](ShapeKind kind, size_t object, uint32_t prim, const std::optional<PrimHit>& h,
                             uint32_t part = 0) {
             if (!h) return;
+            const PrimRef ref{kind, static_cast<uint32_t>(object), prim, part};
+            if (!present(ray, r, ref, *h)) return;
             r.tfar = h->t;
-            best = PrimIntersection{PrimRef{kind, static_cast<uint32_t>(object), prim, part}, h->t, h->u, h->v};
+            best = PrimIntersection{ref, h->t, h->u, h->v};
         };
         const Scene& s = scene_;
         for (size_t i = 0; i < s.spheres.size(); ++i) consider(ShapeKind::Sphere, i, 0, penumbra::intersect(s.spheres[i], r));
@@ -82,26 +93,34 @@ public:
             if (penumbra::intersect(x, r)) return true;
         for (const auto& x : s.boxes)
             if (penumbra::intersect(x, r)) return true;
-        for (const auto& x : s.rectangles)
-            if (penumbra::intersect(x, r)) return true;
+        for (size_t i = 0; i < s.rectangles.size(); ++i) {
+            const auto h = penumbra::intersect(s.rectangles[i], r);
+            if (h && present(ray, r, PrimRef{ShapeKind::Rectangle, uint32_t(i), 0}, *h)) return true;
+        }
         for (const auto& x : s.disks)
             if (penumbra::intersect(x, r)) return true;
-        for (const auto& mesh : s.meshes) {
+        for (size_t m = 0; m < s.meshes.size(); ++m) {
+            const TriangleMesh& mesh = s.meshes[m];
             const size_t n = mesh.triangleCount();
             for (size_t t = 0; t < n; ++t) {
                 Vec3f p0, p1, p2;
                 mesh.vertices(t, p0, p1, p2);
-                if (intersectTriangle(p0, p1, p2, r)) return true;
+                const auto h = intersectTriangle(p0, p1, p2, r);
+                if (h && present(ray, r, PrimRef{ShapeKind::Mesh, uint32_t(m), uint32_t(t)}, *h)) return true;
             }
         }
-        for (const Instance& in : s.instances) {
+        for (size_t i = 0; i < s.instances.size(); ++i) {
+            const Instance& in = s.instances[i];
             const Ray o = objectRay(in, r);
-            for (const TriangleMesh& mesh : s.prototypes[in.prototype].meshes) {
-                const size_t n = mesh.triangleCount();
+            const auto& parts = s.prototypes[in.prototype].meshes;
+            for (size_t k = 0; k < parts.size(); ++k) {
+                const size_t n = parts[k].triangleCount();
                 for (size_t t = 0; t < n; ++t) {
                     Vec3f p0, p1, p2;
-                    mesh.vertices(t, p0, p1, p2);
-                    if (intersectTriangle(p0, p1, p2, o)) return true;
+                    parts[k].vertices(t, p0, p1, p2);
+                    const auto h = intersectTriangle(p0, p1, p2, o);
+                    const PrimRef ref{ShapeKind::Instance, uint32_t(i), uint32_t(t), uint32_t(k)};
+                    if (h && present(ray, o, ref, *h)) return true;
                 }
             }
         }
@@ -124,8 +143,8 @@ public:
 
 }  // namespace
 
-std::unique_ptr<Accelerator> makeNaiveAccelerator(const Scene& scene) {
-    return std::make_unique<NaiveAccelerator>(scene);
+std::unique_ptr<Accelerator> makeNaiveAccelerator(const Scene& scene, std::shared_ptr<const TextureCache> textures) {
+    return std::make_unique<NaiveAccelerator>(scene, std::move(textures));
 }
 
 }  // namespace penumbra

@@ -47,15 +47,19 @@ PreparedScene::PreparedScene(Scene sceneIn, const PrepareOptions& options, const
     auto t0 = Clock::now();
     auto scene = std::make_shared<Scene>(std::move(sceneIn));
     fixups_ = scene->finalize(log);
-    accel_ = makeAccelerator(options.accelerator, *scene, options.quality);
     addDefaultLightIfDark(*scene, log);
     RgbImage environmentImage;
     if (scene->environment && !scene->environment->image.empty())
         environmentImage = readEnvironmentImage(*scene->environment, log);
-    scene_ = buffers_ = scene;
     // Textures are read from the files the loader opened right after its path check (never
     // reopened by name: a file swapped in since then is not read) or from their bytes.
-    if (!scene_->textures.empty()) textures_ = std::make_shared<const TextureCache>(scene_->textures, log);
+    // Before the accelerator: its alpha cutouts read them.
+    if (!scene->textures.empty()) textures_ = std::make_shared<const TextureCache>(scene->textures, log);
+    accel_ = makeAccelerator(options.accelerator, *scene, options.quality, textures_);
+    if (const size_t n = accel_->alphaTest().opaqueShapesWithAlpha())
+        log.warn(std::to_string(n) + " sphere(s), box(es), disk(s) or plane(s) have a material whose alpha cuts "
+                 "out; alpha cuts out of meshes and rectangles only, so they are drawn opaque");
+    scene_ = buffers_ = scene;
     buildLights(std::move(environmentImage));
     buildSeconds_ = secondsSince(t0);
 }

@@ -22,12 +22,16 @@
 #include <span>
 #include <vector>
 
+#include <OpenImageIO/imageio.h>
+
 #include "accel/accelerator.h"
 #include "core/ray_lanes.h"
+#include "core/texture_cache.h"
 #include "core/sampling.h"
 #include "core/scene.h"
 #include "core/transform.h"
 #include "support/both_accelerators.h"
+#include "support/test_support.h"
 
 namespace penumbra {
 namespace {
@@ -390,6 +394,90 @@ TEST(AcceleratorAgreementTest, AgreementHoldsWithoutFlushToZeroAndForEveryBuildQ
         std::vector<Ray> shadow = shadowRays(scene, rays, is.naive, rng);
         OcclusionStats os = compareOccluded(*naive, *embree, shadow);
         EXPECT_GE(os.agree + 1, os.rays) << "quality " << int(q);
+    }
+}
+
+// ---------------------------------------------------------------- alpha cutouts
+
+// A 16 x 16 RGBA checkerboard (white, alpha 255 or 0) written as a PNG.
+std::string writeAlphaChecker() {
+    const std::string path = (test::tempDir() / "checker.png").string();
+    std::vector<unsigned char> px;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) px.insert(px.end(), {255, 255, 255, (x + y) % 2 ? (unsigned char)0 : (unsigned char)255});
+    auto out = OIIO::ImageOutput::create(path);
+    OIIO::ImageSpec spec(16, 16, 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data())) return {};
+    out->close();
+    return path;
+}
+
+// The random scene with alpha: the icosphere and the odd rectangles Blend at
+// 0.5, the terrain (given uvs) and the cube prototype cut by the checker, the
+// instances that override their material Blend at 0.3.
+Scene makeAlphaScene(uint32_t seed, const std::string& checker) {
+    Scene s = makeRandomScene(seed);
+    auto add = [&](AlphaMode mode, float opacity, bool textured) {
+        Material m;
+        m.alphaMode = mode;
+        m.opacity = opacity;
+        if (textured) {
+            m.diffuseTexture = checker;
+            bindTextures(m, [&](std::string& path, TextureColorSpace space) { return s.addTexture({path, space}); });
+        }
+        s.materials.push_back(m);
+        return uint32_t(s.materials.size() - 1);
+    };
+    const uint32_t half = add(AlphaMode::Blend, 0.5f, false), cut = add(AlphaMode::Mask, 1.f, true),
+                   faint = add(AlphaMode::Blend, 0.3f, false);
+    s.meshes[0].material = half;
+    TriangleMesh& terrain = s.meshes[1];
+    for (const Vec3f& p : terrain.positions) terrain.uvs.push_back({(p.x + 10.f) / 5.f, (p.z + 10.f) / 5.f});
+    terrain.material = cut;
+    for (size_t i = 1; i < s.rectangles.size(); i += 2) s.rectangles[i].material = half;
+    s.prototypes[1].meshes[0].material = cut;
+    for (Instance& in : s.instances)
+        if (in.material != kNoMaterialOverride) in.material = faint;
+    s.finalize(quietLogger());
+    return s;
+}
+
+TEST(AcceleratorAgreementTest, AlphaCutoutsAgreeHitForHit) {
+    FlushDenormalsScope ftz;
+    const std::string checker = writeAlphaChecker();
+    ASSERT_FALSE(checker.empty());
+    const Scene scene = makeAlphaScene(7, checker);
+    const auto textures = std::make_shared<const TextureCache>(scene.textures, quietLogger());
+    auto naive = makeNaiveAccelerator(scene, textures);
+    auto embree = makeEmbreeAccelerator(scene, BuildQuality::High, textures);
+    ASSERT_TRUE(embree->alphaTest().any());
+    auto opaque = makeEmbreeAccelerator(scene);  // no textures: only the Blend factors cut out
+    Rng rng(11);
+    const std::vector<Ray> coherent = cameraRays(120, 100, {0.f, 3.f, 28.f}, {0.f, 0.f, 0.f}, rng);
+    const std::vector<Ray> incoherent = randomRays(12000, rng);
+    for (const auto& [label, rays] : {std::pair{std::string("alpha coherent"), &coherent},
+                                      std::pair{std::string("alpha incoherent"), &incoherent}}) {
+        IntersectStats is = compareIntersect(*naive, *embree, *rays);
+        std::vector<Ray> shadow = shadowRays(scene, *rays, is.naive, rng);
+        OcclusionStats os = compareOccluded(*naive, *embree, shadow);
+        report(label, is, os);
+        EXPECT_GE(double(is.agree), 0.9999 * double(is.rays)) << label;
+        EXPECT_GE(double(os.agree), 0.9999 * double(os.rays)) << label;
+        // The cutouts change what many rays meet (the checker is not read without textures).
+        size_t changed = 0, batchSame = 0;
+        std::vector<std::optional<PrimIntersection>> batch(rays->size());
+        embree->intersectPrimBatch(*rays, batch);
+        for (size_t i = 0; i < rays->size(); ++i) {
+            const auto a = is.naive[i], b = opaque->intersectPrim((*rays)[i]);
+            changed += a.has_value() != b.has_value() || (a && !(a->ref == b->ref));
+            const auto one = embree->intersectPrim((*rays)[i]);
+            batchSame += one.has_value() == batch[i].has_value() && (!one || one->ref == batch[i]->ref);
+        }
+        std::cout << "[agreement] " << label << ": the checker changed " << changed << " of " << rays->size()
+                  << " closest hits\n";
+        EXPECT_GT(changed, rays->size() / 50) << label;
+        EXPECT_GE(double(batchSame), 0.9999 * double(rays->size())) << label;
     }
 }
 

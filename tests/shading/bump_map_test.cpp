@@ -3,7 +3,8 @@
 // written here tilts the shading normal by the ramp's slope per texel times s,
 // against the rise, along the tangent frame; a constant height, or -bm 0,
 // leaves the normal as it was; the reversed ramp tilts the other way; seen
-// from behind, the normal is the same one turned to the viewer; on Sponza
+// from behind, the normal is the same one turned to the viewer; JSON's
+// rectangle, sphere and box tilt along their own uv directions; on Sponza
 // (../shared, skipped when absent) the floor's joints tilt and its stones stay level.
 #include <gtest/gtest.h>
 
@@ -114,6 +115,85 @@ TEST(BumpMaps, SeenFromBehindTheBumpedNormalTurnsToTheViewer) {
     const Shaded s = shadeQuad(dir, "bump -bm 20 height.png", true);
     expectNear(s.ns, -normalize(Vec3f{-20.f * kStep, 0.f, 1.f}));
     expectNear(s.ng, Vec3f{0.f, 0.f, -1.f}, 0.f);
+}
+
+/// The shading normal where a ray from `eye` along `dir` meets the JSON scene of `shape` with a bump-mapped material.
+Vec3f shadeJsonShape(const fs::path& dir, const std::string& shape, const Vec3f& eye, const Vec3f& d) {
+    const fs::path json = test::writeFile(
+        dir / "s.json", R"({"materials": {"m": {"kd": 0.5, "bump_texture": "height.png", "normal_scale": 20}},
+                            "shapes": [)" + shape + "]}");
+    test::WarningLog log;
+    const LoadedScene s = loadScene(json, {}, log.logger);
+    const TextureCache cache(s.scene.textures, log.logger);
+    EXPECT_TRUE(log.warnings.empty()) << log.warnings.front();
+    const Ray ray{eye, d};
+    const std::optional<Hit> hit = makeNaiveAccelerator(s.scene)->intersect(ray);
+    EXPECT_TRUE(hit.has_value());
+    if (!hit) return {};
+    ShadingPoint sp;
+    SurfaceShading(s.scene, &cache, 0.f).shade(*hit, ray, hit->t, sp);
+    return sp.ns;
+}
+
+TEST(BumpMaps, AnalyticShapesTiltAlongTheirUv) {
+    // The u ramp on a rectangle whose a runs along +x (u) and b along +y (v):
+    // as on the OBJ quad. On a sphere seen along -z, +u turns towards -x
+    // (u = atan2(z, x) / 2 pi + 1/2), so the tilt against the rise is +x.
+    const fs::path dir = test::tempDir();
+    ASSERT_FALSE(writeHeights(dir / "height.png", [](int x, int) { return 1000 * x; }).empty());
+    const Vec3f down{0.f, 0.f, -1.f};
+    expectNear(shadeJsonShape(dir, R"({"type": "rectangle", "p0": [0, 0, 0], "a": [1, 0, 0], "b": [0, 1, 0], "material": "m"})",
+                              Vec3f{0.6f, 0.3f, 1.f}, down),
+               normalize(Vec3f{-20.f * kStep, 0.f, 1.f}));
+    expectNear(shadeJsonShape(dir, R"({"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"})",
+                              Vec3f{0.f, 0.f, 5.f}, down),
+               normalize(Vec3f{20.f * kStep, 0.f, 1.f}));
+    // A box's +z face: u along x, v along y (the axes after z).
+    expectNear(shadeJsonShape(dir, R"({"type": "box", "min": [-1, -1, -1], "max": [1, 1, 0], "material": "m"})",
+                              Vec3f{0.2f, 0.1f, 5.f}, down),
+               normalize(Vec3f{-20.f * kStep, 0.f, 1.f}));
+}
+
+TEST(BumpMaps, EachShapesUvGrowsAlongItsUvDerivatives) {
+    // A step along the tangent from a hit raises u and leaves v; one along the
+    // bitangent raises v (and leaves u where the uv axes are perpendicular):
+    // on every analytic shape, a turned box and a skewed rectangle included.
+    Scene s;
+    Material textured;
+    textured.textureIndex = 0;  // so that hits carry uv
+    s.materials = {textured};
+    s.spheres.push_back(Sphere{Vec3f{0.f, 0.f, 0.f}, 1.f, 0});
+    s.planes.push_back(Plane{Vec3f{0.f, -3.f, 0.f}, normalize(Vec3f{0.2f, 1.f, 0.1f}), 0});
+    s.boxes.push_back(makeBox(Vec3f{-1.f, -1.f, -1.f}, Vec3f{1.f, 1.f, 1.f},
+                              Transform::translate(Vec3f{5.f, 0.f, 0.f}) * Transform::rotate(30.f, Vec3f{0.f, 0.f, 1.f})));
+    s.rectangles.push_back(Rectangle{Vec3f{-6.f, -1.f, 0.f}, Vec3f{2.f, 0.5f, 0.f}, Vec3f{0.f, 1.f, 0.5f}, 0});
+    s.disks.push_back(Disk{Vec3f{0.f, 5.f, 0.f}, normalize(Vec3f{0.3f, -1.f, 0.2f}), 1.f, 0});
+    const std::unique_ptr<Accelerator> accel = makeNaiveAccelerator(s);
+    const Vec3f targets[] = {{0.3f, 0.2f, 0.9f}, {0.5f, -3.f, 0.5f}, {5.2f, 0.3f, 1.f}, {-4.8f, -0.2f, 0.4f}, {0.2f, 5.f, 0.1f}};
+    const ShapeKind kinds[] = {ShapeKind::Sphere, ShapeKind::Plane, ShapeKind::Box, ShapeKind::Rectangle, ShapeKind::Disk};
+    const Vec3f approach[] = {{0.f, 0.f, 1.f}, {0.f, 1.f, 0.f}, {0.f, 0.f, 1.f}, {0.f, 0.f, 1.f}, {0.f, -1.f, 0.f}};
+    for (int k = 0; k < 5; ++k) {
+        SCOPED_TRACE(k);
+        // Hits from 2 units off the surface along its normal, near the target.
+        const auto hitNear = [&](const Vec3f& p, const Vec3f& n) { return accel->intersect(Ray{p + 2.f * n, -n}); };
+        const std::optional<Hit> h = hitNear(targets[k], approach[k]);
+        ASSERT_TRUE(h.has_value());
+        ASSERT_EQ(h->ref.kind, kinds[k]);
+        const Tangent t = s.tangentAt(*h);
+        const Vec3f bitangent = t.sign * cross(h->ns, t.direction);
+        constexpr float eps = 1e-2f;
+        const std::optional<Hit> hu = hitNear(h->p + eps * t.direction, h->ns);
+        const std::optional<Hit> hv = hitNear(h->p + eps * bitangent, h->ns);
+        ASSERT_TRUE(hu && hv);
+        const Vec2f du{hu->uv.x - h->uv.x, hu->uv.y - h->uv.y}, dv{hv->uv.x - h->uv.x, hv->uv.y - h->uv.y};
+        EXPECT_GT(du.x, 0.f);
+        EXPECT_LT(std::fabs(du.y), 0.05f * du.x);
+        EXPECT_GT(dv.y, 0.f);
+        // The bitangent is perpendicular to the tangent: on the skewed rectangle it moves u too.
+        if (kinds[k] != ShapeKind::Rectangle) {
+            EXPECT_LT(std::fabs(dv.x), 0.05f * dv.y);
+        }
+    }
 }
 
 TEST(BumpMaps, SponzasFloorShowsItsJointsAndStaysLevel) {

@@ -29,6 +29,10 @@ std::optional<Tangent> triangleTangent(const Vec3f p[3], const Vec2f uv[3], cons
     const float r = 1.f / det;
     const Vec3f dpdu = (dv2 * e1 - dv1 * e2) * r;
     const Vec3f dpdv = (du1 * e2 - du2 * e1) * r;
+    return tangentFrom(dpdu, dpdv, n);
+}
+
+std::optional<Tangent> tangentFrom(const Vec3f& dpdu, const Vec3f& dpdv, const Vec3f& n) {
     const Vec3f t = perpendicularPart(dpdu, n);
     if (lengthSquared(t) == 0.f || !isFinite(dpdv)) return std::nullopt;
     return Tangent{t, dot(cross(n, t), dpdv) < 0.f ? -1.f : 1.f};

@@ -17,6 +17,13 @@ namespace penumbra {
 /// are degenerate (collinear) or the result is not finite.
 std::optional<Tangent> triangleTangent(const Vec3f p[3], const Vec2f uv[3], const Vec3f& n);
 
+/// The tangent of a surface whose derivatives along its texture coordinates
+/// are dpdu and dpdv (any lengths) where its unit normal is n: dp/du made
+/// perpendicular to n and normalised, with the sign that makes sign *
+/// cross(n, tangent) follow dp/dv. nullopt where dp/du is parallel to n or
+/// anything is not finite.
+std::optional<Tangent> tangentFrom(const Vec3f& dpdu, const Vec3f& dpdv, const Vec3f& n);
+
 /// Fills mesh.tangents from uv set `uvSet` (0: uvs, 1: uvs1), one per vertex,
 /// perpendicular to the vertex normals (or to the triangles' normals where
 /// the mesh has none). False, leaving the mesh as it was, when it has no such

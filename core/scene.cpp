@@ -347,7 +347,19 @@ Vec2f Scene::uv1At(const Hit& h) const {
 Tangent Scene::tangentAt(const Hit& h, int uvSet) const {
     const Tangent any{anyPerpendicular(h.ns), 1.f};
     const std::optional<HitTriangle> t = hitTriangle(h);
-    if (!t) return any;
+    if (!t) {
+        const uint32_t i = h.ref.object;
+        std::optional<UvDerivatives> d;
+        switch (h.ref.kind) {
+            case ShapeKind::Sphere: d = uvDerivatives(spheres[i], h.p); break;
+            case ShapeKind::Plane: d = uvDerivatives(planes[i]); break;
+            case ShapeKind::Box: d = uvDerivatives(boxes[i], h.ng); break;
+            case ShapeKind::Rectangle: d = uvDerivatives(rectangles[i]); break;
+            case ShapeKind::Disk: d = uvDerivatives(disks[i]); break;
+            default: break;
+        }
+        return d ? tangentFrom(d->dpdu, d->dpdv, h.ns).value_or(any) : any;
+    }
     const TriangleMesh& m = *t->mesh;
     if (!m.tangents.empty()) {
         const float u = t->bary.x, v = t->bary.y, w = 1.f - u - v;

@@ -138,7 +138,8 @@ public:
     Vec2f uv1At(const Hit& h) const;
     /// The world-space tangent at a hit, perpendicular to h.ns, with the
     /// bitangent's sign (Tangent): interpolated from the mesh's tangents, else
-    /// the triangle's own from its uvs (uv set `uvSet`), else any perpendicular.
+    /// the triangle's own from its uvs (uv set `uvSet`); on the other shapes,
+    /// the directions their uv grow in (uvDerivatives); else any perpendicular.
     Tangent tangentAt(const Hit& h, int uvSet = 0) const;
 
     /// The index of `source` in `textures`, added unless a texture of the same

@@ -45,6 +45,13 @@ void completeHit(const Sphere& s, const Ray& ray, float t, Hit& h, bool withUv) 
     h.material = s.material;
 }
 
+UvDerivatives uvDerivatives(const Sphere& s, const Vec3f& p) {
+    // u = phi / 2 pi + 1/2 with phi = atan2(n.z, n.x), v = theta / pi from +y:
+    // d/dphi and d/dtheta (times sin theta) of the unit normal.
+    const Vec3f n = normalize(p - s.center);
+    return {Vec3f{-n.z, 0.f, n.x}, Vec3f{n.y * n.x, n.y * n.y - 1.f, n.y * n.z}};
+}
+
 std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
     // Slab test in object space. The direction is transformed but not
     // normalised, so t is the same parameter in both spaces.
@@ -99,6 +106,18 @@ void completeHit(const Box& b, const Ray& ray, float t, Hit& h, bool withUv) {
         h.uv = {(po[a1] - b.lo[a1]) / ext[a1], (po[a2] - b.lo[a2]) / ext[a2]};
     }
     h.material = b.material;
+}
+
+UvDerivatives uvDerivatives(const Box& b, const Vec3f& ng) {
+    // The face's axis, as completeHit chose it; uv run along the next two axes.
+    const Vec3f no = b.identity ? ng : b.objectFromWorld.applyNormal(ng);
+    int axis = 0;
+    for (int i = 1; i < 3; ++i)
+        if (std::fabs(no[i]) > std::fabs(no[axis])) axis = i;
+    Vec3f du{}, dv{};
+    du[(axis + 1) % 3] = 1.f;
+    dv[(axis + 2) % 3] = 1.f;
+    return {b.worldFromObject.applyVector(du), b.worldFromObject.applyVector(dv)};
 }
 
 std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r) {

@@ -156,6 +156,25 @@ inline void completeHit(const Plane& pl, const Ray& ray, float t, Hit& h, bool w
 void completeHit(const Box& b, const Ray& r, float t, Hit& h, bool withUv = true);
 void completeHit(const Rectangle& q, float u, float v, Hit& h);
 void completeHit(const Disk& d, float u, float v, Hit& h);
+
+/// The directions in which completeHit's uv grows at a point of the shape:
+/// dp/du and dp/dv (any lengths), the tangent frame of normal and bump maps.
+struct UvDerivatives {
+    Vec3f dpdu, dpdv;
+};
+/// p: the hit point (off the poles, where u turns about the y axis).
+UvDerivatives uvDerivatives(const Sphere& s, const Vec3f& p);
+/// ng: the hit's geometric normal, which names the face.
+UvDerivatives uvDerivatives(const Box& b, const Vec3f& ng);
+inline UvDerivatives uvDerivatives(const Rectangle& q) { return {q.a, q.b}; }
+inline UvDerivatives uvDerivatives(const Plane& pl) {
+    const Frame f = Frame::fromNormal(pl.normal);
+    return {f.s, f.t};
+}
+inline UvDerivatives uvDerivatives(const Disk& d) {
+    const Frame f = Frame::fromNormal(d.normal);
+    return {f.s, f.t};
+}
 /// One triangle's corners: positions, and (optional, else null) 3 vertex normals and 3 UVs.
 struct TriangleCorners {
     Vec3f p[3];

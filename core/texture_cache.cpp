@@ -429,4 +429,23 @@ Vec3f TextureCache::sampleNormal(const TextureRef& slot, Vec2f uv, float footpri
     return l > 0.f && std::isfinite(l) ? n / l : Vec3f{0.f, 0.f, 1.f};
 }
 
+Vec3f TextureCache::sampleHeightNormal(const TextureRef& slot, Vec2f uv, float footprint, float scale) const {
+    const Texture* tex = impl_->usable(slot.texture);
+    const Vec3f flat{0.f, 0.f, 1.f};
+    if (!tex || !std::isfinite(uv.x) || !std::isfinite(uv.y)) return flat;
+    // Texels crossed per unit of u and of v, through the slot's transform ((s, t) = M (u, 1 - v) + offset).
+    const Level& base = tex->levels.front();
+    const float perU = std::hypot(float(base.w) * slot.m[0], float(base.h) * slot.m[3]);
+    const float perV = std::hypot(float(base.w) * slot.m[1], float(base.h) * slot.m[4]);
+    if (!(perU > 0.f) || !(perV > 0.f) || !std::isfinite(perU) || !std::isfinite(perV)) return flat;
+    const float fp = std::isfinite(footprint) && footprint > 0.f ? footprint : 0.f;
+    const float du = std::max(1.f / perU, fp), dv = std::max(1.f / perV, fp);
+    const auto height = [&](float u, float v) { return sampleChannel(slot, {u, v}, fp); };
+    const float slopeU = (height(uv.x + du, uv.y) - height(uv.x - du, uv.y)) / (2.f * du * perU);
+    const float slopeV = (height(uv.x, uv.y + dv) - height(uv.x, uv.y - dv)) / (2.f * dv * perV);
+    const Vec3f n{-scale * slopeU, -scale * slopeV, 1.f};
+    const float l = length(n);
+    return l > 0.f && std::isfinite(l) ? n / l : flat;
+}
+
 }  // namespace penumbra

@@ -67,6 +67,14 @@ public:
     /// A tangent-space normal map's unit normal (2 RGB - 1, X and Y times
     /// `scale`, as glTF defines it); (0, 0, 1) where sample gives Rgba{}.
     Vec3f sampleNormal(const TextureRef& slot, Vec2f uv, float footprint, float scale) const;
+    /// A height map's unit normal in the same tangent space (x along +u, y
+    /// along +v): the slot's channel (sampleChannel) is the height, and its
+    /// rise per texel of the full-resolution image, stepping along u and
+    /// along v, times `scale` is the surface's slope (the convention of
+    /// height maps drawn for normal-map converters: it does not depend on
+    /// the surface's size). Central differences one texel, or `footprint`
+    /// where wider, to each side; (0, 0, 1) where sample gives Rgba{}.
+    Vec3f sampleHeightNormal(const TextureRef& slot, Vec2f uv, float footprint, float scale) const;
 
     /// Number of textures (enabled or not).
     size_t size() const;

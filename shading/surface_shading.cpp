@@ -39,9 +39,12 @@ void SurfaceShading::shadeMaps(const Material& m, const Hit& hit, float pathLeng
     const float width = textures_ ? footprint(hit, pathLength, sp.wo) : 0.f;
     const Vec2f uv1 = textures_ && m.needsUv1() ? scene_.uv1At(hit) : hit.uv;
     const auto uvOf = [&](const TextureRef& r) { return r.uvSet == 1 ? uv1 : hit.uv; };
-    if (m.normalMap.used() && !m.bumpMap && textures_) {
-        // The map's normal in the tangent frame of the unflipped shading normal, then turned to wo's side.
-        const Vec3f local = textures_->sampleNormal(m.normalMap, uvOf(m.normalMap), width, m.normalScale);
+    if (m.normalMap.used() && textures_) {
+        // The map's normal (a height map's: from its slopes) in the tangent frame
+        // of the unflipped shading normal, then turned to wo's side.
+        const Vec2f uv = uvOf(m.normalMap);
+        const Vec3f local = m.bumpMap ? textures_->sampleHeightNormal(m.normalMap, uv, width, m.normalScale)
+                                      : textures_->sampleNormal(m.normalMap, uv, width, m.normalScale);
         const Tangent t = scene_.tangentAt(hit, m.normalMap.uvSet);
         const Vec3f bitangent = t.sign * cross(hit.ns, t.direction);
         Vec3f n = normalize(t.direction * local.x + bitangent * local.y + hit.ns * local.z);

@@ -2,7 +2,8 @@
 // wrapping, MIP filtering over a footprint, grey images, float images kept
 // linear, missing files disabled with a warning, and concurrent lookups; a
 // material slot's sampling: images from memory, colour spaces, alpha, the
-// wrap modes, the nearest filter, transforms, one channel, normals, 16 bits.
+// wrap modes, the nearest filter, transforms, one channel, normals, 16 bits,
+// height maps.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -296,6 +297,38 @@ TEST(TextureSlots, SixteenBitImagesKeepTheirPrecision) {
     TextureCache cache({TextureSource{png.string(), TextureColorSpace::Linear}}, w.logger);
     EXPECT_NEAR(cache.sampleChannel(slot(), {0.25f, 0.5f}, 0.f), 1000.f / 65535.f, 1e-7f);
     EXPECT_NEAR(cache.sampleChannel(slot(), {0.75f, 0.5f}, 0.f), 40000.f / 65535.f, 1e-7f);
+}
+
+TEST(TextureSlots, HeightMapSlopesPerTexelThroughTransformsAndFootprints) {
+    // 32 x 16 texels whose height rises by `step` per texel to the right.
+    constexpr float step = 1000.f / 65535.f;
+    std::vector<uint16_t> px;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 32; ++x) px.push_back(uint16_t(1000 * x));
+    const fs::path png = writeImage(test::tempDir() / "ramp.png", 32, 16, 1, px, OIIO::TypeDesc::UINT16);
+    Warnings w;
+    TextureCache cache({TextureSource{png.string(), TextureColorSpace::Linear}}, w.logger);
+    const auto expectNormal = [](const Vec3f& got, const Vec3f& want) {
+        EXPECT_NEAR(got.x, want.x, 2e-5f);
+        EXPECT_NEAR(got.y, want.y, 2e-5f);
+        EXPECT_NEAR(got.z, want.z, 2e-5f);
+    };
+    const Vec3f alongU = normalize(Vec3f{-10.f * step, 0.f, 1.f});
+    expectNormal(cache.sampleHeightNormal(slot(), {0.5f, 0.5f}, 0.f, 10.f), alongU);
+    // The box-filtered MIP levels of a ramp are ramps: a footprint of 8 texels reads the same slope per texel.
+    expectNormal(cache.sampleHeightNormal(slot(), {0.5f, 0.5f}, 0.25f, 10.f), alongU);
+    // Tiled twice: twice the texels per unit of u, the same slope per texel.
+    TextureRef tiled = slot();
+    tiled.m[0] = 2.f;
+    expectNormal(cache.sampleHeightNormal(tiled, {0.25f, 0.5f}, 0.f, 10.f), alongU);
+    // Turned a quarter (s' = 1 - v, t' = u): the rise runs down v, measured in the image's 32 texels across.
+    TextureRef turned = slot();
+    turned.m[0] = 0.f;
+    turned.m[1] = 1.f;
+    turned.m[3] = 1.f;
+    turned.m[4] = 0.f;
+    expectNormal(cache.sampleHeightNormal(turned, {0.5f, 0.5f}, 0.f, 10.f), normalize(Vec3f{0.f, 10.f * step, 1.f}));
+    EXPECT_EQ(cache.sampleHeightNormal(TextureRef{}, {0.5f, 0.5f}, 0.f, 10.f).z, 1.f);
 }
 
 }  // namespace

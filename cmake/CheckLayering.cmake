@@ -2,7 +2,8 @@
 #   Embree only in accel/, TBB only in core/parallel_tbb.cpp, OpenImageIO only
 #   in core/oiio/oiio_module.cpp (the dlopen()ed image module), tinyobjloader only in
 #   core/io/obj_loader.cpp, Assimp only in core/io/assimp_loader.cpp, tinygltf only in core/io/gltf_model.h
-#   (the glTF reader's files include it from there), pugixml only in core/io/xml_checks.cpp
+#   (the glTF reader's files include it from there), pugixml only in core/io/xml_checks.cpp, libpng only
+#   in core/png_encoder.cpp
 #   (the XML checks made before Assimp reads a file), nlohmann-json in the library only in
 #   core/io/json_document.h (the JSON loader's files include it from there); the loaders' path policy
 #   (core/io/path_policy, input_file, load_options) is their bottom and includes
@@ -48,6 +49,9 @@ foreach(_f IN LISTS _files)
     endif()
     if(_line MATCHES "pugixml" AND NOT _f STREQUAL "core/io/xml_checks.cpp")
       list(APPEND _errors "${_f}: includes pugixml outside core/io/xml_checks.cpp")
+    endif()
+    if(_line MATCHES "<png\\.h>" AND NOT _f STREQUAL "core/png_encoder.cpp")
+      list(APPEND _errors "${_f}: includes libpng outside core/png_encoder.cpp")
     endif()
     # Inside the library; the CLI writes its --stats-json with nlohmann-json too.
     if(_line MATCHES "nlohmann/" AND NOT _f STREQUAL "core/io/json_document.h" AND NOT _f MATCHES "^apps/")

@@ -1,6 +1,7 @@
 // Writing the film (and reading images back, for tests and tools). OpenImageIO
 // encodes and decodes in memory behind libpenumbra_oiio.so (core/oiio/), loaded
-// on the first image; PFM is Penumbra's own; the bytes are written all or
+// on the first image; PNG is written by libpng (core/png_encoder.h) and PFM by
+// Penumbra itself, so neither loads that module; the bytes are written all or
 // nothing by core/atomic_file.h.
 #pragma once
 

@@ -1,5 +1,8 @@
 #include "lights/delta_lights.h"
 
+#include "core/lane_clones.h"
+#include "lights/light_lanes.h"
+
 namespace penumbra {
 
 std::optional<LightSample> PointLightSource::sample(const Vec3f& p, Vec2f) const {
@@ -9,6 +12,38 @@ std::optional<LightSample> PointLightSource::sample(const Vec3f& p, Vec2f) const
     float dist = std::sqrt(dist2);
     // Inverse-square falloff: irradiance I cos / d^2; the cosine is the integrator's.
     return LightSample{light_.intensity / dist2, d / dist, light_.position, dist, 1.f, true};
+}
+
+// sample()'s operations in its order (a Vec3f divided by a float multiplies by
+// the reciprocal), so that every lane holds the very values sample() returns.
+void PointLightSource::sampleLanes(const LanePoints& at, const float*, const float*, const int32_t* want, int n,
+                                   LightLanes& out) const {
+    pointLanes(at, want, n, out);
+}
+
+PENUMBRA_LANE_CLONES void PointLightSource::pointLanes(const LanePoints& at, const int32_t* want, int n,
+                                                       LightLanes& out) const {
+    out.delta = true;
+    const Vec3f q = light_.position;
+    const Rgb I = light_.intensity;
+    for (int l = 0; l < n; ++l) {
+        const float dx = q.x - at.px[l], dy = q.y - at.py[l], dz = q.z - at.pz[l];
+        const float dist2 = dx * dx + dy * dy + dz * dz;
+        const float dist = std::sqrt(dist2);
+        const float inv = 1.f / dist, invDist2 = 1.f / dist2;
+        out.wx[l] = dx * inv;
+        out.wy[l] = dy * inv;
+        out.wz[l] = dz * inv;
+        out.qx[l] = q.x;
+        out.qy[l] = q.y;
+        out.qz[l] = q.z;
+        out.distance[l] = dist;
+        out.pdf[l] = 1.f;
+        out.Lr[l] = I.r * invDist2;
+        out.Lg[l] = I.g * invDist2;
+        out.Lb[l] = I.b * invDist2;
+        out.ok[l] = int32_t(want[l] != 0) & int32_t(dist2 > 0.f);
+    }
 }
 
 DirectionalLightSource::DirectionalLightSource(const DirectionalLight& l, float sceneRadius)

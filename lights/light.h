@@ -52,10 +52,9 @@ public:
     virtual void mayReachLanes(const LanePoints& at, int n, int32_t* reach) const;
     /// One sample at each of the first n lanes' points where want[l] is set:
     /// out.set(l, sample(at.p(l), {ux[l], uy[l]})), the same values; where
-    /// want[l] is 0, out.ok[l] = 0. Lights whose sample is a short chain of
-    /// square roots and divisions take it as loops over the lanes. Not for
-    /// delta lights (LightLanes has no delta flag). out must not overlap at,
-    /// ux, uy or want.
+    /// want[l] is 0, out.ok[l] = 0; out.delta = isDelta(). Lights whose sample
+    /// is a short chain of square roots and divisions take it as loops over
+    /// the lanes. out must not overlap at, ux, uy or want.
     virtual void sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                              LightLanes& out) const;
     /// sampleMany as lanes: out.set(l, sample(p, {ux[l], uy[l]})) for l < n

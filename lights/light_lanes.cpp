@@ -8,6 +8,7 @@ void Light::mayReachLanes(const LanePoints& at, int n, int32_t* reach) const {
 
 void Light::sampleLanes(const LanePoints& at, const float* ux, const float* uy, const int32_t* want, int n,
                         LightLanes& out) const {
+    out.delta = isDelta();
     for (int l = 0; l < n; ++l) out.set(l, want[l] ? sample(at.p(l), Vec2f{ux[l], uy[l]}) : std::nullopt);
 }
 

@@ -40,6 +40,7 @@ struct LightLanes {
     alignas(64) float distance[kWidth], pdf[kWidth];
     alignas(64) float Lr[kWidth], Lg[kWidth], Lb[kWidth];
     alignas(64) int32_t ok[kWidth];
+    bool delta = false;  // the samples are a point or directional light's (LightSample::delta)
 
     void set(int l, const std::optional<LightSample>& s) {
         ok[l] = s ? 1 : 0;
@@ -56,10 +57,10 @@ struct LightLanes {
         Lg[l] = s->L.g;
         Lb[l] = s->L.b;
     }
-    /// The sample of lane l (ok[l] set); lanes hold samples of lights that are not delta lights.
+    /// The sample of lane l (ok[l] set).
     LightSample get(int l) const {
         return LightSample{Rgb{Lr[l], Lg[l], Lb[l]}, Vec3f{wx[l], wy[l], wz[l]}, Vec3f{qx[l], qy[l], qz[l]},
-                           distance[l], pdf[l], false};
+                           distance[l], pdf[l], delta};
     }
 };
 

@@ -134,7 +134,10 @@ DirectLight::DirectLight(const Scene& scene, const Accelerator& accel, const Lig
     : scene_(scene), accel_(accel), lights_(lights), lightSamples_(static_cast<uint32_t>(options.lightSamples)),
       bsdf_(options.areaSamples ? BsdfSamples::None : options.bsdf), areaSamples_(options.areaSamples),
       picker_(lightPicker(lights, options.selection)) {
-    for (size_t j = 0; j < lights.size(); ++j) sampledLights_ |= !lights[j].isDelta();
+    for (size_t j = 0; j < lights.size(); ++j) {
+        sampledLights_ |= !lights[j].isDelta();
+        deltaLights_ |= lights[j].isDelta();
+    }
     findClearTargets(scene);
 }
 
@@ -241,14 +244,14 @@ PENUMBRA_LANE_CLONES void DirectLight::estimate(const Points& points, int depth,
     if (nLights == 0) return;
     const uint32_t samples = lightSamples_;
     Call c(points, direct, counts, depth, nLights, samples);
-    // Point and directional lights alone need the points neither as lanes nor for BSDF samples.
-    if (sampledLights_)
+    if (sampledLights_ || deltaLights_)
         for (size_t q = 0; q < n; ++q) c.at.set(int(q), points.sp[q]->p, points.sp[q]->ng);
     decideBsdfSamples(c);
     if (picker_) {
         samplePickedLights(c);
     } else {
-        if (sampledLights_ && samples == 1 && !areaSamples_) {
+        // The points as the lanes of one packet: for one sample of each light per point, and for point lights.
+        if ((sampledLights_ && samples == 1 && !areaSamples_) || deltaLights_) {
             c.lanes.setPoints(c.at);
             for (size_t q = 0; q < n; ++q) c.lanes.setShading(int(q), *points.sp[q], c.misCount[q]);
         }
@@ -273,12 +276,19 @@ void DirectLight::queueSamples(Call& c, float scale, SampleAt sampleAt) const {
     for (size_t q = 0; q < count; ++q) c.sum[q] += acc[q] * scale;
 }
 
-// A point or directional light: one exact sample per point.
+// A point or directional light: one exact sample per point, the points as the
+// lanes of one packet (no sample numbers: the light has one point).
 PENUMBRA_LANE_CLONES void DirectLight::sampleDeltaLight(const Light& light, Call& c) const {
-    const float n = float(c.n);
-    queueSamples(c, 1.f, [&](size_t q, const ShadingPoint& sp, const SampleKey&, ShadowQueue& queue) {
-        if (auto ls = light.sample(sp.p, Vec2f{0.5f, 0.5f})) queueLightSample(queue, q, sp, *ls, 1.f, 1.f, 0.f, n);
-    });
+    const int n = int(c.points.n);
+    alignas(64) int32_t want[kLaneWidth];
+    alignas(64) float half[kLaneWidth];
+    std::fill_n(want, kLaneWidth, 1);
+    std::fill_n(half, kLaneWidth, 0.5f);
+    LightLanes samples;
+    light.sampleLanes(c.lanes.points(), half, half, want, n, samples);
+    ScratchArray<Rgb, kMaxPoints> added;
+    c.counts.shadow += c.lanes.trace(samples, n, float(c.n), accel_, added.data());
+    for (int q = 0; q < n; ++q) c.sum[q] += added[q];
 }
 
 // One sample per point: every step over the points as the lanes of a packet.

@@ -130,6 +130,7 @@ private:
     bool areaSamples_;
     const LightPicker* picker_;   // null: every light takes every point's samples
     bool sampledLights_ = false;  // some light is no point or directional light
+    bool deltaLights_ = false;    // some light is a point or directional light
     // Per light, where it is one rectangle or disk: the box its samples lie
     // in (padded), the primitive and its plane.
     struct ClearTarget {

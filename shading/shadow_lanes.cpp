@@ -13,11 +13,12 @@ PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, flo
     RayLanes rays;
     alignas(64) float wr[kWidth], wg[kWidth], wb[kWidth];
     // Every lane's shadow ray (spawnRayTo towards the sampled point) and, where
-    // the surface is not glossy, phongResponse for an area light with no
-    // specular lobe times L / pdf: the same operations in the same order, so
-    // the same values bit for bit (its specular term, ks times a zero lobe, adds
-    // an exact zero there, so it is left out). (Where the caller knows them
-    // clear, no ray is made.)
+    // the surface is not glossy, phongResponse with no specular lobe times
+    // L / pdf: the same operations in the same order, so the same values bit
+    // for bit (its specular term, ks times a zero lobe, adds an exact zero
+    // there, so it is left out; under a delta light the classic model's kd is
+    // not divided by pi, and times 1 it stays exact). (Where the caller knows
+    // them clear, no ray is made.)
     for (int c = 0; c < (clear ? 0 : n); ++c) {
         const float px = at.px[c], py = at.py[c], pz = at.pz[c], gx = at.nx[c], gy = at.ny[c], gz = at.nz[c];
         // The ray: offsetRayOrigin, then from the origin to the point, stopping short by the point's offset.
@@ -46,14 +47,22 @@ PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, flo
         rays.tnear[c] = 0.f;
         rays.tfar[c] = moves ? (tfar < 0.f ? 0.f : tfar) : 0.f;
     }
+    // What kd is scaled by before the cosine: 1 / pi, but 1 for the classic
+    // Phong model under a point or directional light (phongResponse). Set
+    // apart from the loop below, which a per-lane choice kept from vectorising.
+    alignas(64) float kdScale[kWidth];
+    std::fill_n(kdScale, kWidth, kInvPi);
+    if (s.delta)
+        for (int c = 0; c < n; ++c)
+            if (sp_[c]->material->model == PhongModel::Classic) kdScale[c] = 1.f;
     for (int c = 0; c < n; ++c) {
         const float gx = at.nx[c], gy = at.ny[c], gz = at.nz[c];
         const float wx = s.wx[c], wy = s.wy[c], wz = s.wz[c];
         const float cosTheta = nsx_[c] * wx + nsy_[c] * wy + nsz_[c] * wz;
         const int32_t above = wx * gx + wy * gy + wz * gz > 0.f;
-        const float fr0 = kdr_[c] * kInvPi * cosTheta;
-        const float fg0 = kdg_[c] * kInvPi * cosTheta;
-        const float fb0 = kdb_[c] * kInvPi * cosTheta;
+        const float fr0 = kdr_[c] * kdScale[c] * cosTheta;
+        const float fg0 = kdg_[c] * kdScale[c] * cosTheta;
+        const float fb0 = kdb_[c] * kdScale[c] * cosTheta;
         const bool lit = cosTheta > 0.f;  // else phongResponse is zero
         const float fr = lit ? fr0 : 0.f, fg = lit ? fg0 : 0.f, fb = lit ? fb0 : 0.f;
         const int32_t black = int32_t(fr == 0.f) & int32_t(fg == 0.f) & int32_t(fb == 0.f);

@@ -69,7 +69,8 @@ public:
 
     /// Traces the samples of the first n lanes (those with samples.ok[c]) as
     /// one packet and writes into added[c] the weight (scale 1, light pdf =
-    /// the sample's pdf) of each unoccluded one, Rgb{} for the others.
+    /// the sample's pdf; a delta light's samples, samples.delta, as
+    /// shadowSampleWeight weighs them) of each unoccluded one, Rgb{} for the others.
     /// Returns how many shadow rays it answered. clear: the caller knows that
     /// nothing lies between the lanes' points and their samples
     /// (DirectLight::shadowsClear): the rays are neither made nor traced, and

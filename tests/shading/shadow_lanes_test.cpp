@@ -1,7 +1,8 @@
 // ShadowLanes (one shadow ray per lane, as arrays) against the rule it
 // vectorises: shadowSampleWeight, spawnRayTo and Accelerator::occluded lane
 // by lane, bit for bit, for Lambertian, glossy and MIS lanes in both Phong
-// models, samples behind the surface, occluded and unoccluded rays.
+// models, samples behind the surface, occluded and unoccluded rays; under an
+// area light and under point and directional lights (whose samples are exact).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +14,7 @@
 #include "core/multi_jitter.h"
 #include "core/scene.h"
 #include "lights/area_light.h"
+#include "lights/delta_lights.h"
 #include "lights/light_lanes.h"
 #include "shading/bsdf/phong.h"
 #include "shading/shadow_lanes.h"
@@ -55,6 +57,34 @@ std::vector<Material> materials() {
     return ms;
 }
 
+// Point i of a test: on the floor (some in the sphere's shadow), its material
+// one of ms in turn, its shading normal and wo from a and u; every seventh faces
+// away (every sample below the surface).
+ShadingPoint floorPoint(uint32_t i, Vec2f a, Vec2f u, const std::vector<Material>& ms) {
+    ShadingPoint sp;
+    sp.material = &ms[i % ms.size()];
+    sp.kd = sp.material->kd;
+    sp.glossy = sp.material->isGlossy();  // as SurfaceShading::shade sets it
+    sp.p = Vec3f{6.f * a.x - 3.f, 0.f, 6.f * a.y - 3.f};
+    sp.ng = i % 7 == 5 ? Vec3f{0, -1, 0} : Vec3f{0, 1, 0};
+    sp.ns = normalize(Vec3f{0.3f * (u.y - 0.5f), 1.f, 0.2f});
+    sp.wo = normalize(Vec3f{a.y - 0.5f, 0.8f, a.x - 0.2f});
+    return sp;
+}
+
+// The scalar rule's answer for one sample: its weight (light pdf lightPdf) where
+// shadowSampleWeight keeps it and its shadow ray (spawnRayTo, or spawnRay for a
+// direction) meets nothing; Rgb{} otherwise, counting the occluded ones.
+Rgb scalarAnswer(const ShadingPoint& sp, const LightSample& ls, float lightPdf, float mis, float nLight,
+                 const Accelerator& accel, int& shadowed) {
+    Rgb w;
+    if (!shadowSampleWeight(sp, ls, 1.f, lightPdf, mis, nLight, w)) return {};
+    const Ray ray = std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point);
+    if (!accel.occluded(ray)) return w;
+    ++shadowed;
+    return {};
+}
+
 TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
     const Scene scene = litScene();
     const auto accel = makeAccelerator(AcceleratorKind::Embree, scene);
@@ -73,14 +103,7 @@ TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
             const uint32_t i = uint32_t(b + c);
             const Vec2f a = multiJitter2D(i, kPoints, 3), u = multiJitter2D(i, kPoints, 4);
             ShadingPoint& sp = sps[i];
-            sp.material = &ms[i % ms.size()];
-            sp.kd = sp.material->kd;
-            sp.glossy = sp.material->isGlossy();  // as SurfaceShading::shade sets it
-            sp.p = Vec3f{6.f * a.x - 3.f, 0.f, 6.f * a.y - 3.f};  // on the floor, some in the sphere's shadow
-            sp.ng = Vec3f{0, 1, 0};
-            sp.ns = normalize(Vec3f{0.3f * (u.y - 0.5f), 1.f, 0.2f});
-            sp.wo = normalize(Vec3f{a.y - 0.5f, 0.8f, a.x - 0.2f});
-            if (i % 7 == 5) sp.ng = Vec3f{0, -1, 0};  // facing away: every sample below the surface
+            sp = floorPoint(i, a, u, ms);
             mis[c] = i % 3 == 1 ? 1.f : 0.f;
             lanes.setLane(c, sp, mis[c]);
             std::optional<LightSample> ls = light.sample(sp.p, u);
@@ -94,16 +117,7 @@ TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
             Rgb want;
             if (samples.ok[c]) {
                 const LightSample ls = samples.get(c);
-                Rgb w;
-                if (shadowSampleWeight(sp, ls, 1.f, ls.pdf, mis[c], 2.f, w)) {
-                    const Ray ray =
-                        std::isinf(ls.distance) ? spawnRay(sp.p, sp.ng, ls.wi) : spawnRayTo(sp.p, sp.ng, ls.point);
-                    if (!accel->occluded(ray)) {
-                        want = w;
-                    } else {
-                        ++shadowed;
-                    }
-                }
+                want = scalarAnswer(sp, ls, ls.pdf, mis[c], 2.f, *accel, shadowed);
             }
             EXPECT_EQ(got[c], want) << "point " << b + c;
             added += got[c].isBlack() ? 0 : 1;
@@ -113,6 +127,56 @@ TEST(ShadowLanes, WeightsAndRaysAreThoseOfTheScalarRuleBitForBit) {
     EXPECT_GT(added, kPoints / 3);
     EXPECT_GT(shadowed, 5);
     EXPECT_GE(traced, added + shadowed);
+}
+
+TEST(ShadowLanes, DeltaLightWeightsAreThoseOfTheScalarRuleBitForBit) {
+    // What DirectLight did lane by lane for a point or directional light: sample(p, {0.5, 0.5}),
+    // shadowSampleWeight with light pdf 1 (no MIS: a delta light's samples ignore the count),
+    // spawnRayTo (spawnRay for a direction) and occluded.
+    const Scene scene = litScene();
+    const auto accel = makeAccelerator(AcceleratorKind::Embree, scene);
+    const PointLightSource point(PointLight{Vec3f{1.6f, 3.2f, -0.2f}, Rgb(40.f, 30.f, 20.f)});  // below the rectangle
+    const DirectionalLightSource sun(DirectionalLight{normalize(Vec3f{0.2f, -1.f, 0.1f}), Rgb(2.f, 1.5f, 1.f)}, 10.f);
+    const std::vector<Material> ms = materials();
+    constexpr int W = ShadowLanes::kWidth;
+    constexpr int kPoints = 200;
+    for (const Light* light : {static_cast<const Light*>(&point), static_cast<const Light*>(&sun)}) {
+        std::vector<ShadingPoint> sps(kPoints);
+        int added = 0, shadowed = 0;
+        for (int b = 0; b < kPoints; b += W) {
+            const int n = std::min(W, kPoints - b);
+            ShadowLanes lanes;
+            float mis[W] = {};
+            alignas(64) int32_t want[W];
+            alignas(64) float half[W];
+            for (int c = 0; c < n; ++c) {
+                const uint32_t i = uint32_t(b + c);
+                const Vec2f a = multiJitter2D(i, kPoints, 5), u = multiJitter2D(i, kPoints, 6);
+                ShadingPoint& sp = sps[i];
+                sp = floorPoint(i, a, u, ms);
+                mis[c] = i % 3 == 1 ? 1.f : 0.f;
+                lanes.setLane(c, sp, mis[c]);
+                want[c] = 1;
+                half[c] = 0.5f;
+            }
+            LightLanes samples;
+            light->sampleLanes(lanes.points(), half, half, want, n, samples);
+            ASSERT_TRUE(samples.delta);
+            Rgb got[W];
+            lanes.trace(samples, n, 4.f, *accel, got);
+            for (int c = 0; c < n; ++c) {
+                const ShadingPoint& sp = sps[size_t(b + c)];
+                const std::optional<LightSample> ls = light->sample(sp.p, Vec2f{0.5f, 0.5f});
+                ASSERT_TRUE(ls);
+                ASSERT_EQ(samples.get(c).L, ls->L);
+                ASSERT_EQ(samples.get(c).wi, ls->wi);
+                EXPECT_EQ(got[c], scalarAnswer(sp, *ls, 1.f, 0.f, 4.f, *accel, shadowed)) << "point " << b + c;
+                added += got[c].isBlack() ? 0 : 1;
+            }
+        }
+        EXPECT_GT(added, kPoints / 3);
+        EXPECT_GT(shadowed, 5);
+    }
 }
 
 TEST(ShadowLanes, TheScalarRuleMatchesThePhongResponse) {

@@ -138,6 +138,7 @@ DirectLight::DirectLight(const Scene& scene, const Accelerator& accel, const Lig
         sampledLights_ |= !lights[j].isDelta();
         deltaLights_ |= lights[j].isDelta();
     }
+    environmentByBsdf_ = lights.environment() && !lights.environment()->hasImage() && bsdf_ != BsdfSamples::None;
     findClearTargets(scene);
 }
 
@@ -192,6 +193,7 @@ bool DirectLight::shadowsClear(size_t j, const Vec3f& p, const Vec3f& ng) const 
 
 float DirectLight::bsdfSampleWeight(size_t j, float lightPdf, float nBsdf, float bsdfPdf, const Vec3f& p,
                                     const Vec3f& n) const {
+    if (!takesLightSamples(j)) return 1.f;
     if (picker_) lightPdf *= picker_->probability(j, p, n);
     return powerHeuristic(nBsdf, bsdfPdf, float(lightSamples_), lightPdf);
 }
@@ -255,7 +257,8 @@ PENUMBRA_LANE_CLONES void DirectLight::estimate(const Points& points, int depth,
             c.lanes.setPoints(c.at);
             for (size_t q = 0; q < n; ++q) c.lanes.setShading(int(q), *points.sp[q], c.misCount[q]);
         }
-        for (size_t j = 0; j < nLights; ++j) sampleLight(j, c);
+        for (size_t j = 0; j < nLights; ++j)
+            if (takesLightSamples(j)) sampleLight(j, c);
     }
     if (c.ownBsdfSamples) sampleBsdf(c);
 }
@@ -414,7 +417,7 @@ void DirectLight::samplePickedLights(Call& c) const {
             const Vec2f u = seq.point(key.index * n + k);
             const LightPicker::Pick pick = picker_->pick(u.x, sp.p, sp.ng);
             const Light& light = lights_[pick.index];
-            if (!(pick.probability > 0.f) || !light.mayReach(sp.p, sp.ng)) continue;
+            if (!(pick.probability > 0.f) || !takesLightSamples(pick.index) || !light.mayReach(sp.p, sp.ng)) continue;
             const Vec2f v{pick.u, u.y};
             const std::optional<LightSample> ls = areaSamples_ ? light.sampleArea(sp.p, v) : light.sample(sp.p, v);
             if (ls)

@@ -131,6 +131,14 @@ private:
     const LightPicker* picker_;   // null: every light takes every point's samples
     bool sampledLights_ = false;  // some light is no point or directional light
     bool deltaLights_ = false;    // some light is a point or directional light
+    // A constant environment is left to the BSDF samples wherever they weigh
+    // against the light samples: for a constant radiance the BSDF's own
+    // distribution follows the integrand up to visibility, and a light sample
+    // (uniform over the sphere, half of it below the surface) only adds noise
+    // and a shadow ray. Escaped BSDF samples then carry it in full (weight 1).
+    bool environmentByBsdf_ = false;
+    /// Whether light j takes light samples (all but such an environment, the set's last light).
+    bool takesLightSamples(size_t j) const { return !(environmentByBsdf_ && j + 1 == lights_.size()); }
     // Per light, where it is one rectangle or disk: the box its samples lie
     // in (padded), the primitive and its plane.
     struct ClearTarget {

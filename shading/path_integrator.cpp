@@ -76,12 +76,18 @@ bool PathIntegrator::scatter(PathVertexLane& lane, int depth, Vec2f u, RayCounts
     lane.specular = b->delta;
     lane.bsdfPdf = b->pdf;
     if (lane.throughput.isBlack() || !lane.throughput.isFinite()) return false;
-    // Russian roulette: past a few bounces a path survives with a probability
-    // that follows its throughput, and carries the lost share when it does.
+    // Russian roulette: past a few bounces a path whose throughput has fallen
+    // below kRouletteThroughput survives with probability throughput / that,
+    // and carries the lost share when it does. Paths of higher throughput go
+    // on: ending them, however rarely, gives the survivors a weight far above
+    // what the others carry, the largest noise of a grey scene under a sky.
     if (depth + 1 >= kRouletteDepth) {
-        const float survive = std::min(0.95f, lane.throughput.maxComponent());
-        if (!(branchNumbers(lane.key, depth, 0).survive < survive)) return false;
-        lane.throughput *= 1.f / survive;
+        const float most = lane.throughput.maxComponent();
+        if (most < kRouletteThroughput) {
+            const float survive = most / kRouletteThroughput;
+            if (!(branchNumbers(lane.key, depth, 0).survive < survive)) return false;
+            lane.throughput *= 1.f / survive;
+        }
     }
     lane.prevP = sp.p;
     lane.prevN = sp.ng;

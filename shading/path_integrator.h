@@ -30,6 +30,9 @@ class PathIntegrator final : public Integrator {
 public:
     /// Bounces before Russian roulette may end a path.
     static constexpr int kRouletteDepth = 3;
+    /// Throughput (largest component) below which a path takes Russian
+    /// roulette, surviving with probability (throughput / this).
+    static constexpr float kRouletteThroughput = 0.25f;
 
     explicit PathIntegrator(const IntegratorInputs& in);
 

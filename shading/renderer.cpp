@@ -1,5 +1,6 @@
 #include "shading/renderer.h"
 
+#include <algorithm>
 #include <cassert>
 #include <chrono>
 #include <cmath>
@@ -261,7 +262,13 @@ PassResult renderPass(const PreparedScene& prepared, const CameraDesc& cameraDes
     assert(film.window() == pnb::renderWindow(settings) && film.sampleCount() == firstSample &&
            uint64_t(firstSample) + sampleCount <= uint64_t(settings.spp));
     const Camera camera(cameraDesc, settings.width, settings.height);
-    const float pixelSpread = 2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height);
+    // The angle a texture lookup filters over: a camera sample's share of the
+    // pixel, about 1/sqrt(spp) of its width, since the film's box filter already
+    // averages the samples (never under 1/8 of a pixel, as pbrt-v4 bounds it).
+    // The whole pixel would blur textures that the samples resolve.
+    const float sampleShare = std::max(0.125f, 1.f / std::sqrt(float(settings.spp)));
+    const float pixelSpread =
+        sampleShare * 2.f * std::tan(0.5f * cameraDesc.vfovDegrees * kPi / 180.f) / float(settings.height);
     const std::unique_ptr<Integrator> integrator = makeIntegrator(
         {prepared.scene(), prepared.accelerator(), prepared.lights(), prepared.textures(), settings, pixelSpread, internal});
     const PassContext context{prepared, camera,      *integrator, settings, film, film.window(), firstSample,

@@ -29,6 +29,8 @@ Noise: relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01) (a
 scripts/bench_noise.py), against a converged reference per renderer (the same renderer and
 settings with K times the samples and another seed, cached under --cache, keyed by scene and
 settings; a Penumbra reference made by another build is reused with a note, delete it to remake).
+K is at least 64 for many_lights: Cycles' rare bright samples there left its 16x reference's mean
+1.2% below Penumbra's, while the two renderers' 64x references agree within 0.1%.
 Each round has its own seed; the figure is the mean over the rounds, times K / (K + 1), which
 removes the reference's own variance (the same per-sample variance at K times the samples).
 Efficiency = 1 / (relMSE x time); the table gives Penumbra's over Cycles'.
@@ -71,6 +73,10 @@ class SuiteScene:
     camera: dict
     environment: dict = None
     regions: dict = dataclasses.field(default_factory=dict)  # name: (x0, y0, x1, y1), fractions, y down
+    # The least reference factor for this scene: where one renderer's samples carry rare, large values
+    # (Cycles' under many small lights), a reference of 16x the samples has a mean that is off by more
+    # than the 1% the means are checked to.
+    min_ref_factor: int = 1
 
 
 CORNELL_CAMERA = {"eye": [0, 1, 3.9], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov": 40}
@@ -94,7 +100,8 @@ SCENES = [
                bc.SHARED / "scenes/dragon_100k/dragon.obj", 256, 192, 64,
                {"eye": [12, 8, 18], "look_at": [0, 4.5, 0], "up": [0, 1, 0], "fov": 40}, {"rgb": [1, 1, 1]}),
     SuiteScene("many_lights", "floor and boxes under 1,024 small emitters (make_many_lights.py --obj)",
-               many_lights, 160, 120, 16, {"eye": [0, 5.5, 22], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 28}),
+               many_lights, 160, 120, 16, {"eye": [0, 5.5, 22], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 28},
+               min_ref_factor=64),
     SuiteScene("cornell_sphere", "McGuire CornellBox-Sphere, mirror and glass made Lambert",
                bc.SHARED / "scenes/cornell_mcguire/CornellBox-Sphere.obj", 256, 256, 64, CORNELL_CAMERA,
                regions={"left wall": (0.08, 0.30, 0.16, 0.60), "right wall": (0.84, 0.30, 0.92, 0.60),
@@ -250,7 +257,8 @@ class Bench:
             say("  environment orientation: " + ("agree" if check["agree"] else "DISAGREE") + "; relMSE Cycles "
                 "against Penumbra (mirrored): " + ", ".join(f"{v} {r['rel_mse']:.2e} ({r['rel_mse_mirrored']:.2e})"
                                                             for v, r in check["views"].items()))
-        ref_spp = spp * self.args.ref_factor
+        ref_factor = max(self.args.ref_factor, scene.min_ref_factor)
+        ref_spp = spp * ref_factor
         refs = {r: self.reference(scene, prepared, r, size, ref_spp, workdir) for r in ("penumbra", "cycles")}
         result["references"] = {r: {"spp": ref_spp, "seconds": meta["seconds"], "date": meta["date"]}
                                 for r, (_, meta) in refs.items()}
@@ -265,7 +273,7 @@ class Bench:
                 runs[renderer].append(run)
             say(f"  round {rnd + 1} ({order[0]} first): " + ", ".join(
                 f"{r} {runs[r][-1]['seconds']:.3f} s relMSE {runs[r][-1]['rel_mse']:.3e}" for r in ("penumbra", "cycles")))
-        correction = self.args.ref_factor / (self.args.ref_factor + 1)
+        correction = ref_factor / (ref_factor + 1)
         for renderer, rs in runs.items():
             med = lambda k: statistics.median(r[k] for r in rs) if all(r[k] is not None for r in rs) else None
             summary = {"seconds": med("seconds"), "prepare_seconds": med("prepare_seconds"),
@@ -323,7 +331,7 @@ def main():
                                                      "penumbra", "bench_cycles"))
     ap.add_argument("--json", help="write every figure here")
     ap.add_argument("--max-depth", type=int, default=10, help="Penumbra's path length (Cycles: one bounce less)")
-    ap.add_argument("--ref-factor", type=int, default=16, help="reference samples = K x the scene's samples")
+    ap.add_argument("--ref-factor", type=int, default=16, help="reference samples = K x the scene's samples (many_lights: at least 64 x)")
     ap.add_argument("--scale", type=float, default=1.0, help="image size factor (trying the tool only)")
     ap.add_argument("--spp-scale", type=float, default=1.0, help="samples factor (trying the tool only)")
     args = ap.parse_args()

@@ -145,7 +145,9 @@ def test_ctrl_c_raises_keyboard_interrupt_promptly(how):
     assert "KeyboardInterrupt" in err, err
     assert "finished" not in out
     assert child.returncode in (-signal.SIGINT, 128 + signal.SIGINT, 1)
-    assert elapsed < 2.0, f"exit took {elapsed:.3f} s after SIGINT"
+    # The whole render takes minutes; 5 s leaves room for a machine loaded many times over (2 s
+    # was once exceeded by the interpreter's own exit at a load of 19 on 2 cores).
+    assert elapsed < 5.0, f"exit took {elapsed:.3f} s after SIGINT"
 
 
 def rss_bytes():

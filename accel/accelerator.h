@@ -58,8 +58,14 @@ public:
     /// Batched queries: the same answers as the single-ray calls, for
     /// rays.size() rays (any count). Embree answers them as 4/8/16-wide
     /// packets, which beat single rays for coherent rays (camera rays of a
-    /// pixel block, one shading point's light samples).
-    virtual void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out) const {
+    /// pixel block, one shading point's light samples). coherent: the caller
+    /// knows that consecutive rays run close together (the mirror rays of a
+    /// pixel block), so that Embree may trace a packet as one frustum, as it
+    /// does intersectLanes' camera rays (same primitives; t may differ from
+    /// the single-ray answer by a few ulps, as there).
+    virtual void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out,
+                                    bool coherent = false) const {
+        (void)coherent;
         for (size_t i = 0; i < rays.size(); ++i) out[i] = intersectPrim(rays[i]);
     }
     /// out[i] = 1 when rays[i] is occluded, else 0.
@@ -73,12 +79,12 @@ public:
         for (int l = 0; l < RayLanes::kWidth; ++l) out[l] = rays.active[l] && occluded(rays.ray(l)) ? 1 : 0;
     }
     /// intersectPrimBatch followed by Scene::completeHit.
-    void intersectBatch(std::span<const Ray> rays, std::span<std::optional<Hit>> out) const {
+    void intersectBatch(std::span<const Ray> rays, std::span<std::optional<Hit>> out, bool coherent = false) const {
         constexpr size_t kChunk = 16;  // one packet: the renderer's batches are 16 rays
         EmptyOptionals<PrimIntersection, kChunk> thin;
         for (size_t b = 0; b < rays.size(); b += kChunk) {
             const size_t n = std::min(kChunk, rays.size() - b);
-            intersectPrimBatch(rays.subspan(b, n), std::span(thin.data(), n));
+            intersectPrimBatch(rays.subspan(b, n), std::span(thin.data(), n), coherent);
             for (size_t i = 0; i < n; ++i) completeThin(rays[b + i], thin[i], out[b + i]);
         }
     }

@@ -83,12 +83,13 @@ public:
     }
 
     // The virtual entry points hand over to non-virtual bodies compiled per ISA (core/lane_clones.h).
-    void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out) const override {
-        intersectPackets(rays, out);
+    void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out,
+                            bool coherent) const override {
+        intersectPackets(rays, out, coherent);
     }
 
-    PENUMBRA_LANE_CLONES void intersectPackets(std::span<const Ray> rays,
-                                               std::span<std::optional<PrimIntersection>> out) const {
+    PENUMBRA_LANE_CLONES void intersectPackets(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out,
+                                               bool coherent) const {
         // Packets as wide as the remaining rays need: 16, 8 or 4 lanes.
         for (size_t i = 0; i < rays.size();) {
             const size_t left = rays.size() - i;
@@ -96,11 +97,11 @@ public:
                 out[i] = intersectPrim(rays[i]);
                 i += 1;
             } else if (left <= 4) {
-                i += intersectPacket<4>(rays.subspan(i), out.subspan(i));
+                i += intersectPacket<4>(rays.subspan(i), out.subspan(i), coherent);
             } else if (left <= 8) {
-                i += intersectPacket<8>(rays.subspan(i), out.subspan(i));
+                i += intersectPacket<8>(rays.subspan(i), out.subspan(i), coherent);
             } else {
-                i += intersectPacket<16>(rays.subspan(i), out.subspan(i));
+                i += intersectPacket<16>(rays.subspan(i), out.subspan(i), coherent);
             }
         }
     }
@@ -158,12 +159,12 @@ public:
     // so no invalid ray reaches Embree; they miss, exactly as intersectPrim says.
     template <int W>
     [[gnu::always_inline]] size_t intersectPacket(std::span<const Ray> rays,
-                                                  std::span<std::optional<PrimIntersection>> out) const {
+                                                  std::span<std::optional<PrimIntersection>> out, bool coherent) const {
         const int n = static_cast<int>(std::min<size_t>(W, rays.size()));
         alignas(64) int ok[W];
         alignas(64) typename Packet<W>::RayHit rh;
         loadLanes<W>(rays, n, rh.ray, ok);
-        answerPacket<W>(rh, ok, n, out.data());
+        answerPacket<W>(rh, ok, n, out.data(), coherent);
         return size_t(n);
     }
 
@@ -205,11 +206,12 @@ public:
 
     // The closest-hit query of a loaded packet whose valid lanes ok[] marks
     // (the others hold the idle ray); writes the first n answers. coherent:
-    // the lanes are a block of camera rays (Accelerator::intersectLanes), for
-    // Embree's coherent traversal where sharesOneOctant allows it.
+    // the lanes run close together (a block of camera rays, or their mirror
+    // rays: Accelerator::intersectPrimBatch), for Embree's coherent traversal
+    // where sharesOneOctant allows it.
     template <int W>
     [[gnu::always_inline]] void answerPacket(typename Packet<W>::RayHit& rh, const int* ok, int n,
-                                             std::optional<PrimIntersection>* out, bool coherent = false) const {
+                                             std::optional<PrimIntersection>* out, bool coherent) const {
         alignas(64) int valid[W];
         int any = 0;
         for (int l = 0; l < W; ++l) {

@@ -145,8 +145,10 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;
+        // The mirror rays of one pixel block off the same surfaces mostly run
+        // together: Embree may trace them as one frustum (coherent).
         accel_.intersectBatch(std::span<const Ray>(next.data(), nNext),
-                              std::span<std::optional<Hit>>(bounce.data(), nNext));
+                              std::span<std::optional<Hit>>(bounce.data(), nNext), true);
         for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = bounce[c] ? &*bounce[c] : nullptr;
     }
     // The counts summed here and stored once: updated in memory lane by lane,

@@ -767,22 +767,28 @@ TEST_P(EachAcceleratorBatch, BatchedQueriesMatchSingleRays) {
         const uint64_t before = accel->invalidRayCount();
         for (size_t i = 0; i < rays.size(); ++i) single[i] = accel->intersectPrim(rays[i]);
         EXPECT_EQ(accel->invalidRayCount() - before, invalid);
-        // Batches of every width the implementation picks: 1..16 and longer runs.
-        size_t pos = 0;
-        for (size_t len = 1; pos < rays.size(); len = len % 23 + 1) {
-            const size_t n = std::min(len, rays.size() - pos);
-            accel->intersectPrimBatch(std::span(rays).subspan(pos, n), std::span(batch).subspan(pos, n));
-            pos += n;
+        // Batches of every width the implementation picks: 1..16 and longer
+        // runs; then again as coherent batches (Embree's frustum traversal
+        // where a packet's rays share an octant: the camera rays here).
+        size_t pos = 0, same = 0;  // the last pass's count is printed below
+        for (const bool coherent : {false, true}) {
+            pos = 0;
+            for (size_t len = 1; pos < rays.size(); len = len % 23 + 1) {
+                const size_t n = std::min(len, rays.size() - pos);
+                accel->intersectPrimBatch(std::span(rays).subspan(pos, n), std::span(batch).subspan(pos, n), coherent);
+                pos += n;
+            }
+            EXPECT_EQ(accel->invalidRayCount() - before, (coherent ? 3 : 2) * invalid);
+            same = 0;
+            for (size_t i = 0; i < rays.size(); ++i) {
+                const bool ok =
+                    single[i].has_value() == batch[i].has_value() &&
+                    (!single[i] || (single[i]->ref == batch[i]->ref &&
+                                    std::fabs(single[i]->t - batch[i]->t) <= 1e-4f * std::max(single[i]->t, 1.f)));
+                same += ok;
+            }
+            EXPECT_GE(double(same), 0.9999 * double(rays.size())) << accel->name() << " coherent " << coherent;
         }
-        EXPECT_EQ(accel->invalidRayCount() - before, 2 * invalid);
-        size_t same = 0;
-        for (size_t i = 0; i < rays.size(); ++i) {
-            const bool ok = single[i].has_value() == batch[i].has_value() &&
-                            (!single[i] || (single[i]->ref == batch[i]->ref &&
-                                            std::fabs(single[i]->t - batch[i]->t) <= 1e-4f * std::max(single[i]->t, 1.f)));
-            same += ok;
-        }
-        EXPECT_GE(double(same), 0.9999 * double(rays.size())) << accel->name();
 
         std::vector<Ray> shadow = shadowRays(scene, rays, single, rng);
         for (size_t i = 11; i < shadow.size(); i += 991) shadow[i].tfar = std::numeric_limits<float>::quiet_NaN();

@@ -6,7 +6,6 @@
 #include "core/lane_clones.h"
 #include "core/scratch_array.h"
 #include "lights/light_selection.h"
-#include "shading/bsdf/bsdf.h"
 
 namespace penumbra {
 
@@ -67,9 +66,11 @@ void PathIntegrator::shadeVertices(std::span<PathVertexLane> lanes, std::span<ui
     }
 }
 
-bool PathIntegrator::scatter(PathVertexLane& lane, int depth, Vec2f u, RayCounts& counts) const {
+// Inline: scatterBatch's loop is its only caller, and reads the ray it writes.
+[[gnu::always_inline]] inline bool PathIntegrator::scatter(PathVertexLane& lane, int depth,
+                                                           const std::optional<BsdfBounce>& b,
+                                                           RayCounts& counts) const {
     const ShadingPoint& sp = lane.sp;
-    const std::optional<BsdfBounce> b = sampleBsdf(sp, lane.lobes, u);
     if (!b) return false;
     ++(b->transmitted ? counts.transmission : b->delta ? counts.reflection : counts.indirect);
     lane.throughput *= b->weight;
@@ -94,6 +95,44 @@ bool PathIntegrator::scatter(PathVertexLane& lane, int depth, Vec2f u, RayCounts
     lane.ray = spawnRay(sp.p, sp.ng, b->wi);
     ++lane.rays;
     return true;
+}
+
+PENUMBRA_LANE_CLONES size_t PathIntegrator::scatterBatch(std::span<PathVertexLane> lanes, std::span<uint8_t> active,
+                                                         int depth, std::span<const SampleKey> keys, Ray* next,
+                                                         uint8_t* nextLane, RayCounts& counts) const {
+    constexpr int N = LambertLanes::kLanes;
+    static_assert(Integrator::kMaxBatch <= size_t(N) && N == OwenSobol2D::kLanes);
+    const size_t n = lanes.size();
+    // One point per camera sample: the pixel's bounces are stratified too.
+    alignas(64) float ux[N], uy[N];
+    dimensionPointLanes(keys.data(), n, VertexDimensions(depth, lights_.size()).bsdf(), ux, uy);
+    // The Lambertian bounce's direction of every lane, as sampleBsdf makes
+    // it, in one loop over the lanes (unused where the lane bounces otherwise).
+    alignas(64) float nx[N], ny[N], nz[N], smooth[N];
+    for (int c = 0; c < N; ++c) {
+        const bool some = size_t(c) < n && active[c];
+        const Vec3f ns = some ? lanes[c].sp.ns : Vec3f{0.f, 0.f, 1.f};
+        nx[c] = ns.x, ny[c] = ns.y, nz[c] = ns.z;
+        smooth[c] = some ? lanes[c].lobes.smooth : 1.f;
+    }
+    LambertLanes lambert;
+    lambertLanes(nx, ny, nz, ux, uy, smooth, lambert);
+    size_t nNext = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (!active[i]) continue;
+        PathVertexLane& lane = lanes[i];
+        const Vec2f u{ux[i], uy[i]};
+        const std::optional<BsdfBounce> b = bouncesLambert(lane.sp, lane.lobes, u)
+                                                ? lambertBounce(lane.sp, lane.lobes.smooth, lambert.at(int(i)))
+                                                : sampleBsdf(lane.sp, lane.lobes, u);
+        if (!scatter(lane, depth, b, counts)) {
+            active[i] = 0;
+            continue;
+        }
+        next[nNext] = lane.ray;
+        nextLane[nNext++] = static_cast<uint8_t>(i);
+    }
+    return nNext;
 }
 
 void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
@@ -122,22 +161,10 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
         };
         direct_.addTo(batch, lit, depth, counts);
 
-        // The bounces of the lanes that go on, traced together. One point per
-        // camera sample: the pixel's bounces are stratified too.
-        alignas(64) float ux[OwenSobol2D::kLanes], uy[OwenSobol2D::kLanes];
-        dimensionPointLanes(keys.data(), n, VertexDimensions(depth, lights_.size()).bsdf(), ux, uy);
+        // The bounces of the lanes that go on, traced together.
         Ray next[kMaxBatch];
         uint8_t nextLane[kMaxBatch];
-        size_t nNext = 0;
-        for (size_t i = 0; i < n; ++i) {
-            if (!active[i]) continue;
-            if (!scatter(lanes[i], depth, Vec2f{ux[i], uy[i]}, counts)) {
-                active[i] = 0;
-                continue;
-            }
-            next[nNext] = lanes[i].ray;
-            nextLane[nNext++] = static_cast<uint8_t>(i);
-        }
+        const size_t nNext = scatterBatch(batch, std::span<uint8_t>(active, n), depth, keys, next, nextLane, counts);
         if (nNext == 0) break;
         accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(nextHits.data(), nNext));
         for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c] ? &*nextHits[c] : nullptr;

@@ -68,7 +68,7 @@ void PathIntegrator::shadeVertices(std::span<PathVertexLane> lanes, std::span<ui
 
 // Inline: scatterBatch's loop is its only caller, and reads the ray it writes.
 [[gnu::always_inline]] inline bool PathIntegrator::scatter(PathVertexLane& lane, int depth,
-                                                           const std::optional<BsdfBounce>& b,
+                                                           const std::optional<BsdfBounce>& b, Ray& next,
                                                            RayCounts& counts) const {
     const ShadingPoint& sp = lane.sp;
     if (!b) return false;
@@ -92,7 +92,14 @@ void PathIntegrator::shadeVertices(std::span<PathVertexLane> lanes, std::span<ui
     }
     lane.prevP = sp.p;
     lane.prevN = sp.ng;
-    lane.ray = spawnRay(sp.p, sp.ng, b->wi);
+    // spawnRay's ray, stored float by float from registers: GCC builds a
+    // Ray on the stack and copies it in pieces that straddle its stores, a
+    // load that store forwarding cannot serve (a stall per bounce).
+    const Ray ray = spawnRay(sp.p, sp.ng, b->wi);
+    const float parts[8] = {ray.o.x, ray.o.y, ray.o.z, ray.d.x, ray.d.y, ray.d.z, ray.tnear, ray.tfar};
+    for (Ray* to : {&lane.ray, &next})
+        to->o.x = parts[0], to->o.y = parts[1], to->o.z = parts[2], to->d.x = parts[3], to->d.y = parts[4],
+        to->d.z = parts[5], to->tnear = parts[6], to->tfar = parts[7];
     ++lane.rays;
     return true;
 }
@@ -125,11 +132,10 @@ PENUMBRA_LANE_CLONES size_t PathIntegrator::scatterBatch(std::span<PathVertexLan
         const std::optional<BsdfBounce> b = bouncesLambert(lane.sp, lane.lobes, u)
                                                 ? lambertBounce(lane.sp, lane.lobes.smooth, lambert.at(int(i)))
                                                 : sampleBsdf(lane.sp, lane.lobes, u);
-        if (!scatter(lane, depth, b, counts)) {
+        if (!scatter(lane, depth, b, next[nNext], counts)) {
             active[i] = 0;
             continue;
         }
-        next[nNext] = lane.ray;
         nextLane[nNext++] = static_cast<uint8_t>(i);
     }
     return nNext;
@@ -152,6 +158,9 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
     const std::span<PathVertexLane> batch(lanes, n);
     // The hits of each bounce; a lane's hit is read before the next bounce's overwrite it.
     EmptyOptionals<Hit, kMaxBatch> nextHits;
+    // The bounces' rays (made once: Ray's initialisers cost a memset per depth).
+    Ray next[kMaxBatch];
+    uint8_t nextLane[kMaxBatch];
     for (int depth = 0;; ++depth) {
         shadeVertices(batch, std::span<uint8_t>(active, n), depth, firstHits);
         // Next-event estimation where the smooth lobes may reflect light, weighed against the bounce below.
@@ -162,8 +171,6 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
         direct_.addTo(batch, lit, depth, counts);
 
         // The bounces of the lanes that go on, traced together.
-        Ray next[kMaxBatch];
-        uint8_t nextLane[kMaxBatch];
         const size_t nNext = scatterBatch(batch, std::span<uint8_t>(active, n), depth, keys, next, nextLane, counts);
         if (nNext == 0) break;
         accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(nextHits.data(), nNext));

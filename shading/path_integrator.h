@@ -57,8 +57,10 @@ private:
     /// many go on.
     size_t scatterBatch(std::span<PathVertexLane> lanes, std::span<uint8_t> active, int depth,
                         std::span<const SampleKey> keys, Ray* next, uint8_t* nextLane, RayCounts& counts) const;
-    /// Takes the lane's sampled bounce b; false when the path ends there.
-    bool scatter(PathVertexLane& lane, int depth, const std::optional<BsdfBounce>& b, RayCounts& counts) const;
+    /// Takes the lane's sampled bounce b: false when the path ends there,
+    /// else its ray is the lane's and `next`.
+    bool scatter(PathVertexLane& lane, int depth, const std::optional<BsdfBounce>& b, Ray& next,
+                 RayCounts& counts) const;
 
     const LightSet& lights_;
     RenderSettings settings_;

@@ -20,6 +20,7 @@ BsdfLobes bsdfLobes(const ShadingPoint& sp) {
     const float smooth = sp.reflectsLight() ? Rgb(sp.kd).average() + Rgb(m.ks).average() : 0.f;
     const float mirror = m.isDielectric() ? 0.f : Rgb(m.kr).average();
     const float glass = m.isDielectric() ? 1.f : 0.f;
+    if (mirror == 0.f && glass == 0.f) return {smooth > 0.f ? 1.f : 0.f, 0.f, 0.f};  // the quotients below, exactly
     const float total = smooth + mirror + glass;
     if (!(total > 0.f)) return {};
     return {smooth / total, mirror / total, glass / total};

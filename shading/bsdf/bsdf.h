@@ -33,6 +33,7 @@ inline Rgb bsdfResponse(const ShadingPoint& sp, const Vec3f& wi, bool deltaLight
 /// f cos of the smooth lobes towards wi and the pdf with which BsdfSampler
 /// draws wi: what a light sample's MIS weight needs.
 inline BsdfSample bsdfEvaluate(const ShadingPoint& sp, const Vec3f& wi) {
+    if (!sp.glossy && sp.reflectsLight()) return lambertEvaluate(sp.kd, sp.ns, wi);
     if (sp.metalRoughness) return metalRoughnessAt(sp).evaluate(wi);
     return phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, wi);
 }

@@ -3,8 +3,12 @@
 // closed form and a bounce needs no lobe evaluated.
 #pragma once
 
+#include <algorithm>
+
+#include "core/color.h"
 #include "core/math.h"
 #include "core/sampling.h"
+#include "shading/bsdf/bsdf_sample.h"
 
 namespace penumbra {
 
@@ -18,6 +22,17 @@ struct LambertDirection {
 inline LambertDirection sampleLambert(const Vec3f& n, Vec2f u) {
     const Vec3f local = squareToCosineHemisphere(u);
     return {Frame::fromNormal(n).toWorld(local), local.z};
+}
+
+/// f cos and pdf of wi for albedo kd (not black) about the unit shading
+/// normal n: kd/pi cos and cos/pi, zero below. phongEvaluate's values, bit
+/// for bit, for a material without a Phong lobe (its lobe's terms add exact
+/// zeros there), without working out the lobes.
+inline BsdfSample lambertEvaluate(const Rgb& kd, const Vec3f& n, const Vec3f& wi) {
+    const float cosTheta = dot(n, wi);
+    Rgb fCos;
+    if (cosTheta > 0.f) fCos = kd * kInvPi * cosTheta;
+    return BsdfSample{wi, fCos, std::max(0.f, cosTheta) * kInvPi};
 }
 
 }  // namespace penumbra

@@ -99,3 +99,23 @@ TEST(LambertBounce, LanesGiveTheScalarDirectionsBitForBit) {
         }
     }
 }
+
+TEST(LambertBounce, LambertEvaluateIsPhongEvaluateWithoutALobe) {
+    for (const PhongModel model : {PhongModel::Normalized, PhongModel::Classic}) {
+        Material m;
+        m.model = model;
+        m.kd = Rgb(0.7f, 0.2f, 0.05f);
+        m.exponent = 12.f;
+        ShadingPoint sp = lambertPoint(m);
+        const uint32_t N = 4096;
+        for (uint32_t i = 0; i < N; ++i) {
+            const Vec2f a = multiJitter2D(i, N, 13);
+            const float z = 1.f - 2.f * a.x, r = std::sqrt(std::max(0.f, 1.f - z * z)), phi = 2.f * kPi * a.y;
+            const Vec3f wi{r * std::cos(phi), r * std::sin(phi), z};
+            const BsdfSample want = phongEvaluate(m, sp.kd, sp.ns, sp.wo, wi), got = bsdfEvaluate(sp, wi);
+            ASSERT_EQ(got.fCos, want.fCos) << i;
+            ASSERT_EQ(got.pdf, want.pdf) << i;
+            ASSERT_EQ(got.wi, want.wi) << i;
+        }
+    }
+}

@@ -24,6 +24,9 @@ inline LambertDirection sampleLambert(const Vec3f& n, Vec2f u) {
     return {Frame::fromNormal(n).toWorld(local), local.z};
 }
 
+/// The solid-angle pdf of a direction at cosine cosTheta with the normal: cos/pi, 0 below.
+inline float lambertPdf(float cosTheta) { return std::max(0.f, cosTheta) * kInvPi; }
+
 /// f cos and pdf of wi for albedo kd (not black) about the unit shading
 /// normal n: kd/pi cos and cos/pi, zero below. phongEvaluate's values, bit
 /// for bit, for a material without a Phong lobe (its lobe's terms add exact
@@ -32,7 +35,7 @@ inline BsdfSample lambertEvaluate(const Rgb& kd, const Vec3f& n, const Vec3f& wi
     const float cosTheta = dot(n, wi);
     Rgb fCos;
     if (cosTheta > 0.f) fCos = kd * kInvPi * cosTheta;
-    return BsdfSample{wi, fCos, std::max(0.f, cosTheta) * kInvPi};
+    return BsdfSample{wi, fCos, lambertPdf(cosTheta)};
 }
 
 }  // namespace penumbra

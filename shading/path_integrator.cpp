@@ -66,7 +66,7 @@ void PathIntegrator::shadeVertices(std::span<PathVertexLane> lanes, std::span<ui
     }
 }
 
-// Inline: scatterBatch's loop is its only caller, and reads the ray it writes.
+// Inline: scatterBatch's loop over the lanes is its only caller.
 [[gnu::always_inline]] inline bool PathIntegrator::scatter(PathVertexLane& lane, int depth,
                                                            const std::optional<BsdfBounce>& b, Ray& next,
                                                            RayCounts& counts) const {

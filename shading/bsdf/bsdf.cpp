@@ -27,7 +27,8 @@ BsdfLobes bsdfLobes(const ShadingPoint& sp) {
 }
 
 std::optional<BsdfBounce> sampleBsdf(const ShadingPoint& sp, const BsdfLobes& lobes, Vec2f u) {
-    if (bouncesLambert(sp, lobes, u)) return lambertBounce(sp, lobes.smooth, sampleLambert(sp.ns, smoothLobeU(u, lobes.smooth)));
+    if (bouncesLambert(sp, lobes, u))
+        return lambertBounce(sp, lobes.smooth, sampleLambert(sp.ns, smoothLobeU(u, lobes.smooth)));
     const Material& m = *sp.material;
     constexpr float kBelowOne = 0x1.fffffep-1f;
     if (u.x < lobes.smooth) {

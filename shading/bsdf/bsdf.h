@@ -122,7 +122,8 @@ struct LambertLanes {
                                                 const float (&uy)[LambertLanes::kLanes],
                                                 const float (&smooth)[LambertLanes::kLanes], LambertLanes& out) {
     for (int c = 0; c < LambertLanes::kLanes; ++c) {
-        const LambertDirection l = sampleLambert(Vec3f{nx[c], ny[c], nz[c]}, smoothLobeU(Vec2f{ux[c], uy[c]}, smooth[c]));
+        const Vec2f v = smoothLobeU(Vec2f{ux[c], uy[c]}, smooth[c]);
+        const LambertDirection l = sampleLambert(Vec3f{nx[c], ny[c], nz[c]}, v);
         out.x[c] = l.wi.x;
         out.y[c] = l.wi.y;
         out.z[c] = l.wi.z;

@@ -6,7 +6,6 @@
 #include "core/lane_clones.h"
 #include "core/scratch_array.h"
 #include "lights/light_selection.h"
-#include "shading/bsdf/bsdf.h"
 
 namespace penumbra {
 
@@ -67,9 +66,11 @@ void PathIntegrator::shadeVertices(std::span<PathVertexLane> lanes, std::span<ui
     }
 }
 
-bool PathIntegrator::scatter(PathVertexLane& lane, int depth, Vec2f u, RayCounts& counts) const {
+// Inline: scatterBatch's loop over the lanes is its only caller.
+[[gnu::always_inline]] inline bool PathIntegrator::scatter(PathVertexLane& lane, int depth,
+                                                           const std::optional<BsdfBounce>& b, Ray& next,
+                                                           RayCounts& counts) const {
     const ShadingPoint& sp = lane.sp;
-    const std::optional<BsdfBounce> b = sampleBsdf(sp, lane.lobes, u);
     if (!b) return false;
     ++(b->transmitted ? counts.transmission : b->delta ? counts.reflection : counts.indirect);
     lane.throughput *= b->weight;
@@ -91,9 +92,53 @@ bool PathIntegrator::scatter(PathVertexLane& lane, int depth, Vec2f u, RayCounts
     }
     lane.prevP = sp.p;
     lane.prevN = sp.ng;
-    lane.ray = spawnRay(sp.p, sp.ng, b->wi);
+    // spawnRay's ray, stored float by float from registers: GCC builds a
+    // Ray on the stack and copies it in pieces that straddle its stores, a
+    // load that store forwarding cannot serve (a stall per bounce).
+    const Ray ray = spawnRay(sp.p, sp.ng, b->wi);
+    const float parts[8] = {ray.o.x, ray.o.y, ray.o.z, ray.d.x, ray.d.y, ray.d.z, ray.tnear, ray.tfar};
+    for (Ray* to : {&lane.ray, &next})
+        to->o.x = parts[0], to->o.y = parts[1], to->o.z = parts[2], to->d.x = parts[3], to->d.y = parts[4],
+        to->d.z = parts[5], to->tnear = parts[6], to->tfar = parts[7];
     ++lane.rays;
     return true;
+}
+
+PENUMBRA_LANE_CLONES size_t PathIntegrator::scatterBatch(std::span<PathVertexLane> lanes, std::span<uint8_t> active,
+                                                         int depth, std::span<const SampleKey> keys, Ray* next,
+                                                         uint8_t* nextLane, RayCounts& counts) const {
+    constexpr int N = LambertLanes::kLanes;
+    static_assert(Integrator::kMaxBatch <= size_t(N) && N == OwenSobol2D::kLanes);
+    const size_t n = lanes.size();
+    // One point per camera sample: the pixel's bounces are stratified too.
+    alignas(64) float ux[N], uy[N];
+    dimensionPointLanes(keys.data(), n, VertexDimensions(depth, lights_.size()).bsdf(), ux, uy);
+    // The Lambertian bounce's direction of every lane, as sampleBsdf makes
+    // it, in one loop over the lanes (unused where the lane bounces otherwise).
+    alignas(64) float nx[N], ny[N], nz[N], smooth[N];
+    for (int c = 0; c < N; ++c) {
+        const bool some = size_t(c) < n && active[c];
+        const Vec3f ns = some ? lanes[c].sp.ns : Vec3f{0.f, 0.f, 1.f};
+        nx[c] = ns.x, ny[c] = ns.y, nz[c] = ns.z;
+        smooth[c] = some ? lanes[c].lobes.smooth : 1.f;
+    }
+    LambertLanes lambert;
+    lambertLanes(nx, ny, nz, ux, uy, smooth, lambert);
+    size_t nNext = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (!active[i]) continue;
+        PathVertexLane& lane = lanes[i];
+        const Vec2f u{ux[i], uy[i]};
+        const std::optional<BsdfBounce> b = bouncesLambert(lane.sp, lane.lobes, u)
+                                                ? lambertBounce(lane.sp, lane.lobes.smooth, lambert.at(int(i)))
+                                                : sampleBsdf(lane.sp, lane.lobes, u);
+        if (!scatter(lane, depth, b, next[nNext], counts)) {
+            active[i] = 0;
+            continue;
+        }
+        nextLane[nNext++] = static_cast<uint8_t>(i);
+    }
+    return nNext;
 }
 
 void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<const std::optional<Hit>> hits,
@@ -113,6 +158,9 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
     const std::span<PathVertexLane> batch(lanes, n);
     // The hits of each bounce; a lane's hit is read before the next bounce's overwrite it.
     EmptyOptionals<Hit, kMaxBatch> nextHits;
+    // The bounces' rays (made once: Ray's initialisers cost a memset per depth).
+    Ray next[kMaxBatch];
+    uint8_t nextLane[kMaxBatch];
     for (int depth = 0;; ++depth) {
         shadeVertices(batch, std::span<uint8_t>(active, n), depth, firstHits);
         // Next-event estimation where the smooth lobes may reflect light, weighed against the bounce below.
@@ -122,22 +170,8 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
         };
         direct_.addTo(batch, lit, depth, counts);
 
-        // The bounces of the lanes that go on, traced together. One point per
-        // camera sample: the pixel's bounces are stratified too.
-        alignas(64) float ux[OwenSobol2D::kLanes], uy[OwenSobol2D::kLanes];
-        dimensionPointLanes(keys.data(), n, VertexDimensions(depth, lights_.size()).bsdf(), ux, uy);
-        Ray next[kMaxBatch];
-        uint8_t nextLane[kMaxBatch];
-        size_t nNext = 0;
-        for (size_t i = 0; i < n; ++i) {
-            if (!active[i]) continue;
-            if (!scatter(lanes[i], depth, Vec2f{ux[i], uy[i]}, counts)) {
-                active[i] = 0;
-                continue;
-            }
-            next[nNext] = lanes[i].ray;
-            nextLane[nNext++] = static_cast<uint8_t>(i);
-        }
+        // The bounces of the lanes that go on, traced together.
+        const size_t nNext = scatterBatch(batch, std::span<uint8_t>(active, n), depth, keys, next, nextLane, counts);
         if (nNext == 0) break;
         accel_.intersectBatch(std::span<const Ray>(next, nNext), std::span<std::optional<Hit>>(nextHits.data(), nNext));
         for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = nextHits[c] ? &*nextHits[c] : nullptr;

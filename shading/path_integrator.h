@@ -17,6 +17,7 @@
 #include <optional>
 #include <span>
 
+#include "shading/bsdf/bsdf.h"
 #include "shading/direct_light.h"
 #include "shading/integrator.h"
 #include "shading/surface_shading.h"
@@ -49,9 +50,17 @@ private:
     /// at `depth`; the lanes that end there become inactive.
     void shadeVertices(std::span<PathVertexLane> lanes, std::span<uint8_t> active, int depth,
                        std::span<FirstHit> firstHits) const;
-    /// Samples the lane's next direction with the point u of its bounce
-    /// dimension; false when the path ends there.
-    bool scatter(PathVertexLane& lane, int depth, Vec2f u, RayCounts& counts) const;
+    /// The bounces of the lanes still going at `depth`: each samples its next
+    /// direction with its point of the bounce dimension (the Lambertian ones
+    /// lane-wise); those that go on get their ray, put in `next` with their
+    /// lane's index in `nextLane`; the others become inactive. Returns how
+    /// many go on.
+    size_t scatterBatch(std::span<PathVertexLane> lanes, std::span<uint8_t> active, int depth,
+                        std::span<const SampleKey> keys, Ray* next, uint8_t* nextLane, RayCounts& counts) const;
+    /// Takes the lane's sampled bounce b: false when the path ends there,
+    /// else its ray is the lane's and `next`.
+    bool scatter(PathVertexLane& lane, int depth, const std::optional<BsdfBounce>& b, Ray& next,
+                 RayCounts& counts) const;
 
     const LightSet& lights_;
     RenderSettings settings_;

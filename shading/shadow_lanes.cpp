@@ -14,7 +14,8 @@ PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, flo
     alignas(64) float wr[kWidth], wg[kWidth], wb[kWidth];
     // Every lane's shadow ray (spawnRayTo towards the sampled point) and, where
     // the surface is not glossy, phongResponse with no specular lobe times
-    // L / pdf: the same operations in the same order, so the same values bit
+    // L / pdf and the MIS weight (shadowSampleWeight's, with lambertEvaluate's
+    // pdf): the same operations in the same order, so the same values bit
     // for bit (its specular term, ks times a zero lobe, adds an exact zero
     // there, so it is left out; under a delta light the classic model's kd is
     // not divided by pi, and times 1 it stays exact). (Where the caller knows
@@ -66,14 +67,19 @@ PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, flo
         const bool lit = cosTheta > 0.f;  // else phongResponse is zero
         const float fr = lit ? fr0 : 0.f, fg = lit ? fg0 : 0.f, fb = lit ? fb0 : 0.f;
         const int32_t black = int32_t(fr == 0.f) & int32_t(fg == 0.f) & int32_t(fb == 0.f);
-        const float invPdf = 1.f / s.pdf[c];
+        // The MIS weight against the cosine lobe's pdf; 1 without (and times
+        // 1 the quotient stays exact).
+        const float bsdfPdf = lambertPdf(cosTheta);
+        const bool mis = misCount_[c] > 0.f && !s.delta;
+        const float scale = mis ? powerHeuristic(nLight, s.pdf[c], misCount_[c], bsdfPdf) : 1.f;
+        const float invPdf = scale / s.pdf[c];
         wr[c] = fr * s.Lr[c] * invPdf;
         wg[c] = fg * s.Lg[c] * invPdf;
         wb[c] = fb * s.Lb[c] * invPdf;
         rays.active[c] = s.ok[c] & above & (1 - black);
     }
     for (int c = n; c < kWidth; ++c) rays.active[c] = 0;
-    // The lanes the loop above does not cover: glossy and MIS weights, and
+    // The lanes the loop above does not cover: glossy weights, and
     // samples of lights at infinity (a ray in a direction, not to a point).
     for (int c = 0; c < n; ++c) {
         const bool atInfinity = std::fabs(s.distance[c]) == kInfinity;

@@ -4,9 +4,9 @@
 // 16 at a time (Light::sampleManyLanes). The samples' BRDF weights and shadow
 // rays are written by loops over the lanes straight into the packet
 // (RayLanes), and the weights of the unoccluded ones are handed back per lane.
-// Where a lane's weight needs more than a Lambertian response (a glossy lobe,
-// pow; an MIS weight), that lane takes shadowSampleWeight, the rule every
-// shadow ray's weight follows.
+// Where a lane's weight needs more than a Lambertian response and its MIS
+// weight (a glossy lobe, pow), that lane takes shadowSampleWeight, the rule
+// every shadow ray's weight follows.
 #pragma once
 
 #include <cstdint>
@@ -82,9 +82,9 @@ private:
     LanePoints points_;  // p and ng
     alignas(64) float nsx_[kWidth], nsy_[kWidth], nsz_[kWidth];
     alignas(64) float kdr_[kWidth], kdg_[kWidth], kdb_[kWidth];
-    alignas(64) int32_t scalar_[kWidth];  // 1: glossy or MIS, weighed by shadowSampleWeight
+    alignas(64) int32_t scalar_[kWidth];  // 1: glossy, weighed by shadowSampleWeight
+    alignas(64) float misCount_[kWidth];
     const ShadingPoint* sp_[kWidth];
-    float misCount_[kWidth];
 };
 
 [[gnu::always_inline]] inline void ShadowLanes::setShading(int c, const ShadingPoint& sp, float misCount) {
@@ -96,7 +96,7 @@ private:
     kdb_[c] = sp.kd.b;
     // Only the Lambertian lanes' weights come from the arrays (the others'
     // from shadowSampleWeight), so no specular term is gathered.
-    scalar_[c] = misCount > 0.f || sp.glossy;
+    scalar_[c] = sp.glossy;
     sp_[c] = &sp;
     misCount_[c] = misCount;
 }

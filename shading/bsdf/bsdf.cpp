@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "shading/bsdf/dielectric.h"
+#include "shading/bsdf/lambert.h"
 #include "shading/bsdf/mirror.h"
 
 namespace penumbra {
@@ -19,16 +20,19 @@ BsdfLobes bsdfLobes(const ShadingPoint& sp) {
     const float smooth = sp.reflectsLight() ? Rgb(sp.kd).average() + Rgb(m.ks).average() : 0.f;
     const float mirror = m.isDielectric() ? 0.f : Rgb(m.kr).average();
     const float glass = m.isDielectric() ? 1.f : 0.f;
+    if (mirror == 0.f && glass == 0.f) return {smooth > 0.f ? 1.f : 0.f, 0.f, 0.f};  // the quotients below, exactly
     const float total = smooth + mirror + glass;
     if (!(total > 0.f)) return {};
     return {smooth / total, mirror / total, glass / total};
 }
 
 std::optional<BsdfBounce> sampleBsdf(const ShadingPoint& sp, const BsdfLobes& lobes, Vec2f u) {
+    if (bouncesLambert(sp, lobes, u))
+        return lambertBounce(sp, lobes.smooth, sampleLambert(sp.ns, smoothLobeU(u, lobes.smooth)));
     const Material& m = *sp.material;
     constexpr float kBelowOne = 0x1.fffffep-1f;
     if (u.x < lobes.smooth) {
-        const Vec2f v{std::min(u.x / lobes.smooth, kBelowOne), u.y};
+        const Vec2f v = smoothLobeU(u, lobes.smooth);
         const std::optional<BsdfSample> s =
             sp.metalRoughness ? metalRoughnessAt(sp).sample(v) : samplePhong(m, sp.kd, sp.ns, sp.wo, v);
         if (!s || !(s->pdf > 0.f) || dot(s->wi, sp.ng) <= 0.f) return std::nullopt;

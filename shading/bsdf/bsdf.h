@@ -8,9 +8,11 @@
 // Conventions: shading/shading_point.h (both normals on wo's side).
 #pragma once
 
+#include <algorithm>
 #include <optional>
 
 #include "shading/bsdf/bsdf_sample.h"
+#include "shading/bsdf/lambert.h"
 #include "shading/bsdf/metal_roughness.h"
 #include "shading/bsdf/phong.h"
 #include "shading/bsdf/phong_sampling.h"
@@ -31,6 +33,7 @@ inline Rgb bsdfResponse(const ShadingPoint& sp, const Vec3f& wi, bool deltaLight
 /// f cos of the smooth lobes towards wi and the pdf with which BsdfSampler
 /// draws wi: what a light sample's MIS weight needs.
 inline BsdfSample bsdfEvaluate(const ShadingPoint& sp, const Vec3f& wi) {
+    if (!sp.glossy && sp.reflectsLight()) return lambertEvaluate(sp.kd, sp.ns, wi);
     if (sp.metalRoughness) return metalRoughnessAt(sp).evaluate(wi);
     return phongEvaluate(*sp.material, sp.kd, sp.ns, sp.wo, wi);
 }
@@ -87,5 +90,45 @@ struct BsdfBounce {
 /// within the lobe's share, samples it. nullopt where the smooth lobes'
 /// sample lands below the surface or has no density.
 std::optional<BsdfBounce> sampleBsdf(const ShadingPoint& sp, const BsdfLobes& lobes, Vec2f u);
+
+/// Whether sampleBsdf's bounce for u is Lambertian: u picks the smooth
+/// lobes where they are kd/pi alone (no Phong lobe, not metal-roughness).
+inline bool bouncesLambert(const ShadingPoint& sp, const BsdfLobes& lobes, Vec2f u) {
+    return u.x < lobes.smooth && !sp.glossy;
+}
+/// u with u.x rescaled to [0, 1) within the smooth lobes' share: the point
+/// that samples them once u.x has picked them.
+inline Vec2f smoothLobeU(Vec2f u, float smooth) { return {std::min(u.x / smooth, 0x1.fffffep-1f), u.y}; }
+/// The Lambertian bounce along l = sampleLambert(sp.ns, smoothLobeU(u,
+/// smooth)): weight kd / smooth and pdf smooth cos / pi in closed form;
+/// nullopt where l lies in or below either surface.
+inline std::optional<BsdfBounce> lambertBounce(const ShadingPoint& sp, float smooth, const LambertDirection& l) {
+    if (!(l.cosTheta > 0.f) || dot(l.wi, sp.ng) <= 0.f) return std::nullopt;
+    return BsdfBounce{l.wi, sp.kd * (1.f / smooth), smooth * l.cosTheta * kInvPi, false, false};
+}
+
+/// sampleLambert(n, smoothLobeU(u, smooth)) of 16 lanes: the same values,
+/// as one loop without branches. Inline so that it compiles into the
+/// caller's lane clones (core/lane_clones.h).
+struct LambertLanes {
+    static constexpr int kLanes = 16;
+    alignas(64) float x[kLanes], y[kLanes], z[kLanes], cosTheta[kLanes];
+    LambertDirection at(int c) const { return {Vec3f{x[c], y[c], z[c]}, cosTheta[c]}; }
+};
+[[gnu::always_inline]] inline void lambertLanes(const float (&nx)[LambertLanes::kLanes],
+                                                const float (&ny)[LambertLanes::kLanes],
+                                                const float (&nz)[LambertLanes::kLanes],
+                                                const float (&ux)[LambertLanes::kLanes],
+                                                const float (&uy)[LambertLanes::kLanes],
+                                                const float (&smooth)[LambertLanes::kLanes], LambertLanes& out) {
+    for (int c = 0; c < LambertLanes::kLanes; ++c) {
+        const Vec2f v = smoothLobeU(Vec2f{ux[c], uy[c]}, smooth[c]);
+        const LambertDirection l = sampleLambert(Vec3f{nx[c], ny[c], nz[c]}, v);
+        out.x[c] = l.wi.x;
+        out.y[c] = l.wi.y;
+        out.z[c] = l.wi.z;
+        out.cosTheta[c] = l.cosTheta;
+    }
+}
 
 }  // namespace penumbra

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/multi_jitter.h"
 
 using namespace penumbra;
@@ -20,6 +23,40 @@ TEST(Sampling, ConcentricDiskIsUniform) {
     }
     EXPECT_NEAR(r2 / n, 0.5, 1e-3);
     for (int q : quadrant) EXPECT_NEAR(double(q) / n, 0.25, 0.01);
+}
+
+TEST(Sampling, ConcentricDiskIsShirleyChiusMap) {
+    // The polynomial sine and cosine give the trigonometric map's points
+    // within float rounding: r (cos phi, sin phi), phi = pi/4 y/x where |x| >
+    // |y|, else pi/2 - pi/4 x/y, on a grid over the square and its corners.
+    double worst = 0.0;
+    const int n = 601;
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            const Vec2f u{float(i) / (n - 1) * 0x1.fffffep-1f, float(j) / (n - 1) * 0x1.fffffep-1f};
+            const Vec2f d = squareToConcentricDisk(u);
+            const double x = 2.0 * u.x - 1.0, y = 2.0 * u.y - 1.0;
+            double r = 0.0, phi = 0.0;
+            if (std::fabs(x) > std::fabs(y)) {
+                r = x, phi = kPi / 4.0 * (y / x);
+            } else if (y != 0.0) {
+                r = y, phi = kPi / 2.0 - kPi / 4.0 * (x / y);
+            }
+            worst = std::max(worst, std::hypot(d.x - r * std::cos(phi), d.y - r * std::sin(phi)));
+        }
+    }
+    EXPECT_LT(worst, 3e-7);
+    EXPECT_EQ(squareToConcentricDisk(Vec2f{0.5f, 0.5f}).x, 0.f);
+    EXPECT_EQ(squareToConcentricDisk(Vec2f{0.5f, 0.5f}).y, 0.f);
+}
+
+TEST(Sampling, SinCosOctantIsSinAndCos) {
+    for (int i = -1000; i <= 1000; ++i) {
+        const float a = float(i) / 1000.f * (kPi / 4.f);
+        const SinCos sc = sinCosOctant(a);
+        EXPECT_NEAR(sc.sin, std::sin(double(a)), 1.5e-7) << a;
+        EXPECT_NEAR(sc.cos, std::cos(double(a)), 1.5e-7) << a;
+    }
 }
 
 TEST(Sampling, CosineHemisphereHasPdfCosOverPi) {

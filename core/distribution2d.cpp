@@ -36,27 +36,28 @@ Distribution1D::Distribution1D(std::span<const float> f) : func_(f.begin(), f.en
     for (size_t k = n; k-- > 0;) guide_[k] = std::min(guide_[k], guide_[k + 1]);
 }
 
-int Distribution1D::slotOf(float u) const {
-    const float s = u * float(size());
-    return s > 0.f ? int(std::min(s, float(size() - 1))) : 0;
-}
-
-Distribution1D::Sample Distribution1D::sample(float u) const {
+Distribution1D::Point Distribution1D::locateIn(float u, Range r) const {
     const int n = size();
     // The last cell whose cdf start is <= u (cells of zero width are never
     // chosen): the first entry above u. Entries of earlier slots are below u
     // and those of later slots above it, so it lies among u's slot's entries
-    // or is the first of the next slot's.
-    const int k = slotOf(u);
-    const auto it = std::upper_bound(cdf_.begin() + guide_[size_t(k)], cdf_.begin() + guide_[size_t(k) + 1], u);
+    // (r) or is the first of the next slot's.
+    const auto it = std::upper_bound(cdf_.begin() + r.first, cdf_.begin() + r.last, u);
     int i = std::clamp(int(it - cdf_.begin()) - 1, 0, n - 1);
-    while (i > 0 && !(func_[size_t(i)] > 0.f)) --i;  // u == 1 rounding onto a trailing empty cell
+    // For u < 1 cell i has width (an empty cell adds nothing to the CDF);
+    // u == 1 may round onto a trailing empty cell.
+    while (i > 0 && !(cdf_[size_t(i) + 1] > cdf_[size_t(i)])) --i;
     const float lo = cdf_[size_t(i)], hi = cdf_[size_t(i) + 1];
     float t = hi > lo ? (u - lo) / (hi - lo) : 0.5f;
     t = std::clamp(t, 0.f, 1.f);
     float x = (float(i) + t) / float(n);
     x = std::min(x, std::nextafter(1.f, 0.f));
-    return {x, func_[size_t(i)], i};
+    return {x, i};
+}
+
+Distribution1D::Sample Distribution1D::sample(float u) const {
+    const Point p = locate(u);
+    return {p.x, func_[size_t(p.cell)], p.cell};
 }
 
 float Distribution1D::pdf(int cell) const {
@@ -87,16 +88,49 @@ std::vector<Distribution1D> makeRows(std::span<const float> f, int nu, int nv) {
 Distribution2D::Distribution2D(std::span<const float> f, int nu, int nv)
     : nu_(nu), nv_(nv), conditional_(makeRows(f, nu, nv)), marginal_(rowIntegrals(conditional_)) {}
 
+Distribution2D::Cell Distribution2D::locate(Vec2f u) const {
+    Cell c;
+    locateLanes(&u.x, &u.y, 1, &c);
+    return c;
+}
+
+void Distribution2D::locateLanes(const float* ux, const float* uy, int n, Cell* out) const {
+    constexpr int kChunk = 16;
+    for (; n > kChunk; n -= kChunk, ux += kChunk, uy += kChunk, out += kChunk) locateLanes(ux, uy, kChunk, out);
+    // The marginal is small and stays in cache; a row's guide table and CDF
+    // are read where u falls, one miss after the other.
+    for (int l = 0; l < n; ++l) {
+        const Distribution1D::Point row = marginal_.locate(uy[l]);
+        out[l].uv.y = row.x;
+        out[l].row = row.cell;
+        conditional_[size_t(row.cell)].prefetchRange(ux[l]);
+    }
+    Distribution1D::Range ranges[kChunk];
+    for (int l = 0; l < n; ++l) {
+        const Distribution1D& d = conditional_[size_t(out[l].row)];
+        ranges[l] = d.range(ux[l]);
+        d.prefetchCdf(ranges[l]);
+    }
+    for (int l = 0; l < n; ++l) {
+        const Distribution1D::Point col = conditional_[size_t(out[l].row)].locateIn(ux[l], ranges[l]);
+        out[l].uv.x = col.x;
+        out[l].column = col.cell;
+    }
+}
+
 Distribution2D::Sample Distribution2D::sample(Vec2f u) const {
-    const Distribution1D::Sample row = marginal_.sample(u.y);
-    const Distribution1D::Sample col = conditional_[size_t(row.cell)].sample(u.x);
-    return {{col.x, row.x}, row.pdf * col.pdf};
+    const Cell c = locate(u);
+    return {c.uv, cellPdf(c.column, c.row)};
+}
+
+float Distribution2D::cellPdf(int column, int row) const {
+    return marginal_.pdf(row) * conditional_[size_t(row)].pdf(column);
 }
 
 float Distribution2D::pdf(Vec2f uv) const {
     const int iu = std::clamp(int(uv.x * float(nu_)), 0, nu_ - 1);
     const int iv = std::clamp(int(uv.y * float(nv_)), 0, nv_ - 1);
-    return marginal_.pdf(iv) * conditional_[size_t(iv)].pdf(iu);
+    return cellPdf(iu, iv);
 }
 
 }  // namespace penumbra

@@ -139,6 +139,7 @@ DirectLight::DirectLight(const Scene& scene, const Accelerator& accel, const Lig
         deltaLights_ |= lights[j].isDelta();
     }
     environmentByBsdf_ = lights.environment() && !lights.environment()->hasImage() && bsdf_ != BsdfSamples::None;
+    environmentCompensated_ = lights.environment() && lights.environment()->hasImage() && bsdf_ != BsdfSamples::None;
     findClearTargets(scene);
 }
 
@@ -204,10 +205,18 @@ float DirectLight::emitterHitWeight(const Hit& hit, float nBsdf, float bsdfPdf, 
     return bsdfSampleWeight(*j, lights_[*j].pdf(p, hit), nBsdf, bsdfPdf, p, n);
 }
 
-float DirectLight::escapeWeight(const Vec3f& dir, float nBsdf, float bsdfPdf, const Vec3f& p, const Vec3f& n) const {
+const Light& DirectLight::sampledLight(size_t j) const {
+    return environmentCompensated_ && j + 1 == lights_.size() ? lights_.environment()->misSampled() : lights_[j];
+}
+
+DirectLight::Escape DirectLight::escape(const Vec3f& dir, float nBsdf, float bsdfPdf, const Vec3f& p,
+                                        const Vec3f& n) const {
     const EnvironmentLight* env = lights_.environment();
-    if (!env) return 1.f;
-    return bsdfSampleWeight(lights_.size() - 1, env->pdf(dir), nBsdf, bsdfPdf, p, n);
+    if (!env) return {scene_.background, 1.f};
+    const EnvironmentLight::Lookup e = env->lookup(dir);
+    if (e.L.isBlack()) return {e.L, 1.f};
+    const float lightPdf = environmentCompensated_ ? e.misPdf : e.pdf;
+    return {e.L, bsdfSampleWeight(lights_.size() - 1, lightPdf, nBsdf, bsdfPdf, p, n)};
 }
 
 Rgb DirectLight::escapedRadiance(const Vec3f& dir) const {
@@ -296,7 +305,7 @@ PENUMBRA_LANE_CLONES void DirectLight::sampleDeltaLight(const Light& light, Call
 
 // One sample per point: every step over the points as the lanes of a packet.
 PENUMBRA_LANE_CLONES void DirectLight::sampleOnePerPoint(size_t j, Call& c) const {
-    const Light& light = lights_[j];
+    const Light& light = sampledLight(j);
     const size_t n = c.points.n;
     const uint32_t dim = c.dims.light(j);
     alignas(64) int32_t reach[kLaneWidth];
@@ -319,7 +328,7 @@ PENUMBRA_LANE_CLONES void DirectLight::sampleOnePerPoint(size_t j, Call& c) cons
 // point by point and each point's samples in order, so that a point's sum
 // takes its samples in sample order whatever the batch holds.
 PENUMBRA_LANE_CLONES void DirectLight::samplePairs(size_t j, Call& c) const {
-    const Light& light = lights_[j];
+    const Light& light = sampledLight(j);
     const uint32_t dim = c.dims.light(j), n = c.n;
     const size_t count = c.points.n;
     ShadowLanes pairs;
@@ -364,7 +373,7 @@ PENUMBRA_LANE_CLONES void DirectLight::samplePairs(size_t j, Call& c) const {
 // 16 and more samples per point: a point's samples, 16 at a time as the lanes
 // of a packet, in sample order.
 PENUMBRA_LANE_CLONES void DirectLight::sampleManyPerPoint(size_t j, Call& c) const {
-    const Light& light = lights_[j];
+    const Light& light = sampledLight(j);
     const uint32_t dim = c.dims.light(j), n = c.n;
     const float invN = c.invN;
     constexpr uint32_t W = uint32_t(kLaneWidth);
@@ -416,7 +425,7 @@ void DirectLight::samplePickedLights(Call& c) const {
         for (uint32_t k = 0; k < n; ++k) {
             const Vec2f u = seq.point(key.index * n + k);
             const LightPicker::Pick pick = picker_->pick(u.x, sp.p, sp.ng);
-            const Light& light = lights_[pick.index];
+            const Light& light = sampledLight(pick.index);
             if (!(pick.probability > 0.f) || !takesLightSamples(pick.index) || !light.mayReach(sp.p, sp.ng)) continue;
             const Vec2f v{pick.u, u.y};
             const std::optional<LightSample> ls = areaSamples_ ? light.sampleArea(sp.p, v) : light.sample(sp.p, v);
@@ -519,9 +528,8 @@ private:
 
     // What an escaped ray in direction d adds (the environment is the set's last light).
     Rgb fromEnvironment(const Vec3f& p, const Vec3f& n, const Vec3f& d, const Rgb& weight, float bsdfPdf) const {
-        const EnvironmentLight* env = lights_.environment();
-        return weight * env->radiance(d) *
-               owner_.bsdfSampleWeight(lights_.size() - 1, env->pdf(d), nBsdf_, bsdfPdf, p, n);
+        const Escape e = owner_.escape(d, nBsdf_, bsdfPdf, p, n);
+        return weight * e.L * e.weight;
     }
 
     static constexpr uint32_t kPacket = 16;

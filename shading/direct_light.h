@@ -84,9 +84,14 @@ public:
     /// of nBsdf samples of pdf bsdfPdf, drawn at p with geometric normal n)
     /// found; 1 where no light sample can find it (no light of the set).
     float emitterHitWeight(const Hit& hit, float nBsdf, float bsdfPdf, const Vec3f& p, const Vec3f& n) const;
-    /// The same for such a sample that left the scene along dir, where the
-    /// environment light (the set's last light) takes it.
-    float escapeWeight(const Vec3f& dir, float nBsdf, float bsdfPdf, const Vec3f& p, const Vec3f& n) const;
+    /// What such a sample that left the scene along dir sees (escapedRadiance)
+    /// and its MIS weight, where the environment light (the set's last light)
+    /// takes it: the radiance and the pdf from one lookup.
+    struct Escape {
+        Rgb L;
+        float weight;
+    };
+    Escape escape(const Vec3f& dir, float nBsdf, float bsdfPdf, const Vec3f& p, const Vec3f& n) const;
     /// Radiance a ray leaving the scene along dir sees: the environment
     /// light's, else Scene::background. The one rule for escaped rays.
     Rgb escapedRadiance(const Vec3f& dir) const;
@@ -137,6 +142,16 @@ private:
     // (uniform over the sphere, half of it below the surface) only adds noise
     // and a shadow ray. Escaped BSDF samples then carry it in full (weight 1).
     bool environmentByBsdf_ = false;
+    // An image environment is sampled by its compensated map
+    // (EnvironmentLight::misSampled) where its light samples weigh against
+    // BSDF samples, which then find the image's darker parts alone: at every
+    // point when there are BSDF samples (the path integrator bounces from every
+    // point it samples lights at; the estimator's own BSDF samples are taken
+    // at every point an environment lights).
+    bool environmentCompensated_ = false;
+    /// The light to draw light j's samples from: lights_[j], or such an
+    /// environment's misSampled().
+    const Light& sampledLight(size_t j) const;
     /// Whether light j takes light samples (all but such an environment, the set's last light).
     bool takesLightSamples(size_t j) const { return !(environmentByBsdf_ && j + 1 == lights_.size()); }
     // Per light, where it is one rectangle or disk: the box its samples lie

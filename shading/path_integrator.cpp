@@ -34,11 +34,11 @@ PathIntegrator::PathIntegrator(const IntegratorInputs& in)
                                    DirectLight::BsdfSamples::Caller, false}) {}
 
 Rgb PathIntegrator::escaped(const PathVertexLane& lane) const {
-    const Rgb L = direct_.escapedRadiance(lane.ray.d);
-    if (lane.specular || !lights_.environment() || L.isBlack()) return L;
+    if (lane.specular) return direct_.escapedRadiance(lane.ray.d);
     // The environment is a light of the set (its last): next-event estimation
     // samples it too.
-    return L * direct_.escapeWeight(lane.ray.d, 1.f, lane.bsdfPdf, lane.prevP, lane.prevN);
+    const DirectLight::Escape e = direct_.escape(lane.ray.d, 1.f, lane.bsdfPdf, lane.prevP, lane.prevN);
+    return e.L * e.weight;
 }
 
 void PathIntegrator::shadeVertices(std::span<PathVertexLane> lanes, std::span<uint8_t> active, int depth,

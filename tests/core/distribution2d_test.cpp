@@ -95,3 +95,37 @@ TEST(Distribution2D, DensityIntegratesToOneAndMatchesSamples) {
             EXPECT_GT(f[size_t(cell)], 0.f);
         }
 }
+
+// locateLanes (the environment light's batched search) gives each point what
+// locate gives it alone, also past its 16-point chunks; sample's density is
+// the located cell's cellPdf.
+TEST(Distribution2D, LocateLanesMatchesLocateOnePointAtATime) {
+    const int nu = 64, nv = 32;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> uni(0.f, 1.f);
+    std::vector<float> f(size_t(nu * nv));
+    for (float& v : f) v = uni(rng) < 0.2f ? 0.f : std::pow(uni(rng), 8.f);
+    Distribution2D d(f, nu, nv);
+    const int n = 37;
+    std::vector<float> ux(n), uy(n);
+    for (int l = 0; l < n; ++l) {
+        ux[size_t(l)] = l == 0 ? 0.f : uni(rng);
+        uy[size_t(l)] = l == 1 ? std::nextafter(1.f, 0.f) : uni(rng);
+    }
+    std::vector<Distribution2D::Cell> cells(n);
+    d.locateLanes(ux.data(), uy.data(), n, cells.data());
+    for (int l = 0; l < n; ++l) {
+        const Vec2f u{ux[size_t(l)], uy[size_t(l)]};
+        const Distribution2D::Cell one = d.locate(u);
+        const Distribution2D::Cell& lane = cells[size_t(l)];
+        EXPECT_EQ(lane.uv.x, one.uv.x) << l;
+        EXPECT_EQ(lane.uv.y, one.uv.y) << l;
+        EXPECT_EQ(lane.column, one.column) << l;
+        EXPECT_EQ(lane.row, one.row) << l;
+        EXPECT_GT(f[size_t(one.row * nu + one.column)], 0.f) << l;
+        const Distribution2D::Sample s = d.sample(u);
+        EXPECT_EQ(s.uv.x, one.uv.x) << l;
+        EXPECT_EQ(s.pdf, d.cellPdf(one.column, one.row)) << l;
+        EXPECT_GT(s.pdf, 0.f) << l;
+    }
+}

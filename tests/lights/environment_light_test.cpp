@@ -13,7 +13,9 @@
 
 #include "core/error.h"
 #include "core/multi_jitter.h"
+#include "core/sampling.h"
 #include "lights/environment_light.h"
+#include "lights/light_lanes.h"
 #include "lights/light_set.h"
 #include "support/chi_square.h"
 
@@ -139,20 +141,36 @@ TEST(EnvironmentLight, ImageSamplingPassesChiSquareAgainstItsPdf) {
     EXPECT_LT(c.statistic, chiSquareQuantile(c.dof, 3.09)) << "dof " << c.dof;  // significance 0.001
 }
 
-TEST(EnvironmentLight, ImageSamplingPassesTheSharedChiSquareTest) {
-    const EnvironmentLight light(testImage(), 1.f, 37.f, 1.f);
+namespace {
+
+// The shared chi-square test of a light's samples against a density.
+template <class Pdf>
+void expectSamplesFollow(const Light& light, Pdf pdf, uint32_t seed) {
     test::ChiSquareOptions options;
     options.samples = 300000;
-    const MultiJitterSet set(options.samples, 11);
+    const MultiJitterSet set(options.samples, seed);
     const auto result = test::chiSquareDirections(
         [&](uint32_t i) -> std::optional<Vec3f> {
             const auto ls = light.sample(Vec3f{}, set.sample(i));
             if (!ls) return std::nullopt;
             return ls->wi;
         },
-        [&](const Vec3f& w) { return double(light.pdf(w)); }, options);
+        [&](const Vec3f& w) { return double(pdf(w)); }, options);
     EXPECT_TRUE(result.passed) << result.message;
     EXPECT_NEAR(result.pdfIntegral, 1.0, 2e-3);
+}
+
+}  // namespace
+
+TEST(EnvironmentLight, ImageSamplingPassesTheSharedChiSquareTest) {
+    const EnvironmentLight light(testImage(), 1.f, 37.f, 1.f);
+    expectSamplesFollow(light, [&](const Vec3f& w) { return light.pdf(w); }, 11);
+}
+
+// The compensated map's samples follow Lookup::misPdf.
+TEST(EnvironmentLight, MisSampledPassesTheSharedChiSquareTest) {
+    const EnvironmentLight light(testImage(), 1.f, 37.f, 1.f);
+    expectSamplesFollow(light.misSampled(), [&](const Vec3f& w) { return light.lookup(w).misPdf; }, 13);
 }
 
 TEST(EnvironmentLight, PdfIntegratesToOneOverTheSphere) {
@@ -177,6 +195,41 @@ TEST(EnvironmentLight, EstimatesOfTheIncidentIntegralMatchTheImage) {
         if (ls) sum += ls->L.g / ls->pdf;
     }
     EXPECT_NEAR(sum / n / (4 * M_PI), light.meanRadiance().g, 0.01 * light.meanRadiance().g);
+}
+
+// misSampled() leaves the image's darker parts to BSDF samples: alone it
+// misses them, but one of its samples and one uniform "BSDF" sample combined
+// by the power heuristic (its pdf from Lookup::misPdf, as DirectLight::escape
+// takes it) estimate the integral of L over the sphere without bias.
+TEST(EnvironmentLight, MisSampledWithBsdfSamplesEstimatesTheIncidentIntegral) {
+    const EnvironmentLight light(testImage(), 0.5f, 20.f, 1.f);
+    const Light& mis = light.misSampled();
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> uni(0.f, 1.f);
+    const auto u01 = [&] { return std::min(uni(rng), 0.99999994f); };
+    const double bsdfPdf = 1.0 / (4 * M_PI);
+    double combined = 0, alone = 0;
+    int darkDirections = 0;
+    const int n = 200000;
+    for (int k = 0; k < n; ++k) {
+        if (const auto ls = mis.sample(Vec3f{}, Vec2f{u01(), u01()})) {
+            const EnvironmentLight::Lookup seen = light.lookup(ls->wi);
+            ASSERT_NEAR(seen.misPdf, ls->pdf, 2e-3f * ls->pdf);
+            ASSERT_EQ(seen.L, ls->L);
+            const double p = ls->pdf;
+            combined += ls->L.g / p * (p * p / (p * p + bsdfPdf * bsdfPdf));
+            alone += ls->L.g / p;
+        }
+        const Vec3f wb = squareToUniformSphere(Vec2f{u01(), u01()});
+        const EnvironmentLight::Lookup e = light.lookup(wb);
+        if (!(e.misPdf > 0.f)) ++darkDirections;
+        const double p = e.misPdf;
+        combined += e.L.g / bsdfPdf * (bsdfPdf * bsdfPdf / (p * p + bsdfPdf * bsdfPdf));
+    }
+    const double truth = 4 * M_PI * light.meanRadiance().g;
+    EXPECT_NEAR(combined / n, truth, 0.01 * truth);
+    EXPECT_GT(darkDirections, n / 10);       // much of the image lies below its mean...
+    EXPECT_LT(alone / n, 0.97 * truth);      // ...and the light samples alone miss it
 }
 
 TEST(EnvironmentLight, ASingleBrightTexelIsSampledWhereTheMappingSays) {
@@ -208,6 +261,54 @@ TEST(EnvironmentLight, ASingleBrightTexelIsSampledWhereTheMappingSays) {
         const Vec3f ahead = rotate == 0.f ? Vec3f{0.02f, -0.05f, -1.f} : Vec3f{-1.f, -0.05f, -0.02f};
         EXPECT_EQ(light.radiance(ahead), Rgb(3000.f)) << rotate;
         EXPECT_FLOAT_EQ(light.radiance(Vec3f{0, 1, 0}).g, 3e-4f);
+    }
+}
+
+// The batched samplers (sampleLanes for one sample per point, sampleMany for
+// many at one point) return exactly what sample() returns, lane by lane, and
+// nothing where a lane is not wanted; lookup() gives the radiance and pdf of
+// each sampled direction.
+TEST(EnvironmentLight, BatchedSamplesAreTheSamplesOneByOne) {
+    const EnvironmentLight light(testImage(), 2.f, 30.f, 1.f);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> uni(0.f, 1.f);
+    LanePoints at;
+    alignas(64) float ux[LightLanes::kWidth], uy[LightLanes::kWidth];
+    int32_t want[LightLanes::kWidth];
+    for (int l = 0; l < LightLanes::kWidth; ++l) {
+        at.set(l, Vec3f{float(l), 1.f, -2.f}, Vec3f{0, 1, 0});
+        ux[l] = uni(rng);
+        uy[l] = uni(rng);
+        want[l] = l % 3 != 1;
+    }
+    LightLanes out;
+    light.sampleLanes(at, ux, uy, want, LightLanes::kWidth, out);
+    EXPECT_FALSE(out.delta);
+    for (int l = 0; l < LightLanes::kWidth; ++l) {
+        const std::optional<LightSample> one = light.sample(at.p(l), Vec2f{ux[l], uy[l]});
+        ASSERT_EQ(out.ok[l] != 0, want[l] && one.has_value()) << l;
+        if (!out.ok[l]) continue;
+        const LightSample s = out.get(l);
+        EXPECT_EQ(s.wi, one->wi) << l;
+        EXPECT_EQ(s.point, one->point) << l;
+        EXPECT_EQ(s.pdf, one->pdf) << l;
+        EXPECT_EQ(s.L, one->L) << l;
+        const EnvironmentLight::Lookup seen = light.lookup(s.wi);
+        EXPECT_EQ(seen.L, s.L) << l;
+        EXPECT_NEAR(seen.pdf, s.pdf, 2e-3f * s.pdf) << l;
+    }
+    std::vector<Vec2f> u(40);
+    for (Vec2f& v : u) v = Vec2f{uni(rng), uni(rng)};
+    std::vector<std::optional<LightSample>> many(u.size());
+    const Vec3f p{0.5f, 0.f, 3.f};
+    light.sampleMany(p, u, many);
+    for (size_t k = 0; k < u.size(); ++k) {
+        const std::optional<LightSample> one = light.sample(p, u[k]);
+        ASSERT_EQ(many[k].has_value(), one.has_value()) << k;
+        if (!one) continue;
+        EXPECT_EQ(many[k]->wi, one->wi) << k;
+        EXPECT_EQ(many[k]->pdf, one->pdf) << k;
+        EXPECT_EQ(many[k]->L, one->L) << k;
     }
 }
 

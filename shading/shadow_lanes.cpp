@@ -7,22 +7,14 @@
 
 namespace penumbra {
 
-PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, float nLight, const Accelerator& accel,
-                                                 Rgb* added, bool clear) const {
-    const LanePoints& at = points_;
-    RayLanes rays;
-    alignas(64) float wr[kWidth], wg[kWidth], wb[kWidth];
-    // Every lane's shadow ray (spawnRayTo towards the sampled point) and, where
-    // the surface is not glossy, phongResponse with no specular lobe times
-    // L / pdf and the MIS weight (shadowSampleWeight's, with lambertEvaluate's
-    // pdf): the same operations in the same order, so the same values bit
-    // for bit (its specular term, ks times a zero lobe, adds an exact zero
-    // there, so it is left out; under a delta light the classic model's kd is
-    // not divided by pi, and times 1 it stays exact). (Where the caller knows
-    // them clear, no ray is made.)
-    for (int c = 0; c < (clear ? 0 : n); ++c) {
+namespace {
+
+// Every lane's shadow ray as spawnRayTo makes it towards the sampled point:
+// offsetRayOrigin, then from the origin to the point, stopping short by the
+// point's own offset. Inlined into trace's per-CPU clones.
+[[gnu::always_inline]] inline void raysToPoints(const LanePoints& at, const LightLanes& s, int n, RayLanes& rays) {
+    for (int c = 0; c < n; ++c) {
         const float px = at.px[c], py = at.py[c], pz = at.pz[c], gx = at.nx[c], gy = at.ny[c], gz = at.nz[c];
-        // The ray: offsetRayOrigin, then from the origin to the point, stopping short by the point's offset.
         const float ax = std::fabs(px), ay = std::fabs(py), az = std::fabs(pz);
         const float ayz = ay < az ? az : ay, axyz = ax < ayz ? ayz : ax;
         const float scale = kRayOffsetRelative * (axyz < 1.f ? 1.f : axyz);
@@ -48,6 +40,23 @@ PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, flo
         rays.tnear[c] = 0.f;
         rays.tfar[c] = moves ? (tfar < 0.f ? 0.f : tfar) : 0.f;
     }
+}
+
+}  // namespace
+
+PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, float nLight, const Accelerator& accel,
+                                                 Rgb* added, bool clear) const {
+    const LanePoints& at = points_;
+    RayLanes rays;
+    alignas(64) float wr[kWidth], wg[kWidth], wb[kWidth];
+    // Every lane's shadow ray (none where the caller knows them clear) and,
+    // where the surface is not glossy, phongResponse with no specular lobe
+    // times L / pdf and the MIS weight (shadowSampleWeight's, with
+    // lambertEvaluate's pdf): the same operations in the same order, so the
+    // same values bit for bit (its specular term, ks times a zero lobe, adds
+    // an exact zero there, so it is left out; under a delta light the classic
+    // model's kd is not divided by pi, and times 1 it stays exact).
+    if (!clear) raysToPoints(at, s, n, rays);
     // What kd is scaled by before the cosine: 1 / pi, but 1 for the classic
     // Phong model under a point or directional light (phongResponse). Set
     // apart from the loop below, which a per-lane choice kept from vectorising.

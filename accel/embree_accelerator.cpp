@@ -4,10 +4,10 @@
 // that can meet nothing (outside the root bounds, or clear of every shape's
 // bounds in a scene of few shapes) skip Embree's call.
 //
-// Planes are infinite and have no bounding box a BVH could hold, so they stay
-// out of Embree and are tested analytically here, after the Embree closest-hit
-// query (with tfar clipped to the Embree hit) and before the occlusion query.
-// Both accelerators therefore return identical plane hits.
+// Planes, and the spheres and boxes of a scene of few of them, stay out of
+// Embree and are tested over the lanes here (accel/lane_shapes.h): after the
+// Embree closest-hit query (with tfar clipped to the Embree hit) and before the
+// occlusion query. Both accelerators therefore return identical hits on them.
 //
 // Where the scene has geometry that can cut out (AlphaTest::any), every ray's
 // id field carries its alphaRayKey for the alpha filters (accel/embree_bvh.h).
@@ -19,6 +19,7 @@
 #include "accel/accelerator.h"
 #include "accel/embree_bvh.h"
 #include "accel/embree_packets.h"
+#include "accel/lane_shapes.h"
 #include "accel/shape_bounds.h"
 #include "core/lane_clones.h"
 
@@ -45,9 +46,15 @@ inline RTCRay toRtcRay(const Ray& r, float tfar, bool keyed) {
 class EmbreeAccelerator final : public Accelerator {
 public:
     EmbreeAccelerator(const Scene& scene, BuildQuality quality, std::shared_ptr<const TextureCache> textures)
-        : Accelerator(scene, std::move(textures)), quality_(quality), bvh_(scene, quality, alpha_) {}
+        : Accelerator(scene, std::move(textures)),
+          quality_(quality),
+          laneShapes_(scene),
+          bvh_(scene, quality, alpha_, laneShapes_.holdsSpheresAndBoxes()) {}
     EmbreeAccelerator(const EmbreeAccelerator& base, const Scene& scene, std::shared_ptr<const void> buffers)
-        : Accelerator(scene, base.textures_), quality_(base.quality_), bvh_(base.bvh_, scene, std::move(buffers)) {}
+        : Accelerator(scene, base.textures_),
+          quality_(base.quality_),
+          laneShapes_(scene),
+          bvh_(base.bvh_, scene, std::move(buffers)) {}
 
     std::unique_ptr<Accelerator> edited(const Scene& scene, std::shared_ptr<const void> buffers) const override {
         // The shared geometries carry the base's filters: edited materials
@@ -78,7 +85,8 @@ public:
                 r.tfar = rh.ray.tfar;
             }
         }
-        closerPlane(r, best);
+        const int shape = laneShapes_.closest(r);
+        if (shape >= 0) best = PrimIntersection{laneShapes_.ref(shape), r.tfar, 0.f, 0.f};
         return best;
     }
 
@@ -118,18 +126,6 @@ public:
                 i += occludedPacket<8>(rays.subspan(i), out.subspan(i));
             } else {
                 i += occludedPacket<16>(rays.subspan(i), out.subspan(i));
-            }
-        }
-    }
-
-    // Planes are tested outside Embree (see the top of this file): replaces
-    // `best` with a plane hit closer than r.tfar, shrinking r.tfar.
-    void closerPlane(Ray& r, std::optional<PrimIntersection>& best) const {
-        const auto& planes = scene_.planes;
-        for (size_t i = 0; i < planes.size(); ++i) {
-            if (auto h = penumbra::intersect(planes[i], r)) {
-                r.tfar = h->t;
-                best = PrimIntersection{PrimRef{ShapeKind::Plane, static_cast<uint32_t>(i), 0}, h->t, h->u, h->v};
             }
         }
     }
@@ -223,33 +219,22 @@ public:
         }
         alignas(64) int query[W];  // the lanes Embree answers: valid ones that meet its bounds
         for (int l = 0; l < W; ++l) query[l] = valid[l];
-        if (any && bvh_.hasGeometry() && keepLanesInRootBounds<W>(rh.ray, query)) {
+        if (any && bvh_.hasGeometry() && keepLanesInRootBounds<W>(rh.ray, query) &&
+            (!shapeBounds().available() || keepLanesMeetingShapes<W>(rh.ray, query))) {
             EmbreeQueryContext ctx(bvh_, alpha_);
             if (coherent && sharesOneOctant<W>(rh.ray, query)) ctx.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
             Packet<W>::intersect(query, bvh_.scene(), &ctx.embree, &rh);
         }
-        // Planes after Embree, each against the lane's closest hit so far
-        // (Embree shrank tfar to it), as closerPlane does for one ray.
-        alignas(64) int plane[W];
-        for (int l = 0; l < W; ++l) plane[l] = -1;
-        const auto& planes = scene_.planes;
-        for (size_t i = 0; i < planes.size(); ++i) {
-            const Plane p = planes[i];  // a copy: the lanes' stores cannot change it
-            const int index = static_cast<int>(i);
-            for (int l = 0; l < W; ++l) {
-                const float t = planeHitDistance(p, rh.ray.org_x[l], rh.ray.org_y[l], rh.ray.org_z[l], rh.ray.dir_x[l],
-                                                 rh.ray.dir_y[l], rh.ray.dir_z[l], rh.ray.tnear[l], rh.ray.tfar[l]);
-                // t is infinite when there is no hit, and at most tfar when there is one.
-                plane[l] = t < kInfinity ? index : plane[l];
-                rh.ray.tfar[l] = std::min(t, rh.ray.tfar[l]);
-            }
-        }
+        // The shapes tested here after Embree, each against the lane's closest
+        // hit so far (Embree shrank tfar to it).
+        alignas(64) int shape[W];
+        for (int l = 0; l < W; ++l) shape[l] = -1;
+        laneShapes_.closest<W>(rh.ray, valid, shape);
         for (int l = 0; l < n; ++l) {
             if (!valid[l]) {
                 out[l].reset();
-            } else if (plane[l] >= 0) {
-                out[l] = PrimIntersection{PrimRef{ShapeKind::Plane, static_cast<uint32_t>(plane[l]), 0}, rh.ray.tfar[l],
-                                          0.f, 0.f};
+            } else if (shape[l] >= 0) {
+                out[l] = PrimIntersection{laneShapes_.ref(shape[l]), rh.ray.tfar[l], 0.f, 0.f};
             } else if (rh.hit.geomID[l] != RTC_INVALID_GEOMETRY_ID) {
                 out[l] = PrimIntersection{bvh_.refOf(rh.hit.geomID[l], rh.hit.primID[l], rh.hit.instID[0][l]),
                                           rh.ray.tfar[l], rh.hit.u[l], rh.hit.v[l]};
@@ -327,10 +312,7 @@ public:
         // accepts t <= tfar, so ask for the float just below tfar.
         for (int l = 0; l < W; ++l) pr.tfar[l] = nextFloatDown(pr.tfar[l]);
         for (int l = 0; l < W; ++l) blocked[l] = 0;
-        for (const Plane& p : scene_.planes)
-            for (int l = 0; l < W; ++l)
-                blocked[l] |= planeHitDistance(p, pr.org_x[l], pr.org_y[l], pr.org_z[l], pr.dir_x[l], pr.dir_y[l],
-                                               pr.dir_z[l], pr.tnear[l], pr.tfar[l]) < kInfinity;
+        laneShapes_.occlude<W>(pr, blocked);
         int any = 0;
         for (int l = 0; l < W; ++l) {
             const int open = ok[l] & (pr.tfar[l] > pr.tnear[l]);
@@ -357,8 +339,7 @@ public:
         Ray r = ray;
         r.tfar = nextFloatDown(ray.tfar);
         if (!(r.tfar > r.tnear)) return false;
-        for (const auto& p : scene_.planes)
-            if (penumbra::intersect(p, r)) return true;
+        if (laneShapes_.occludes(r)) return true;
         if (!bvh_.hasGeometry()) return false;
         EmbreeQueryContext ctx(bvh_, alpha_);
         RTCRay q = toRtcRay(r, r.tfar, alpha_.any());
@@ -412,8 +393,9 @@ private:
     }
 
     // Clears valid[l] for the lanes whose interval [tnear, tfar] meets no
-    // shape's bounds (accel/shape_bounds.h): slab tests against the boxes and the
-    // closest approach to the spheres, over the lanes. As in
+    // bounds of a shape Embree holds (accel/shape_bounds.h; not those of the
+    // spheres and boxes laneShapes_ tests): slab tests against the boxes and
+    // the closest approach to the spheres, over the lanes. As in
     // keepLanesInRootBounds, a NaN only keeps a lane. In a scene of a few
     // shapes most shadow rays cross open space between the surfaces (the
     // room: those from its walls to the light, past both spheres) and the
@@ -428,7 +410,9 @@ private:
             iy[l] = 1.f / (p.dir_y[l] != 0.f ? p.dir_y[l] : 1e-30f);
             iz[l] = 1.f / (p.dir_z[l] != 0.f ? p.dir_z[l] : 1e-30f);
         }
+        const bool spheresAndBoxesHere = laneShapes_.holdsSpheresAndBoxes();
         for (const ShapeBounds::PaddedBox& b : shapeBounds().boxes()) {
+            if (spheresAndBoxesHere && b.ref.kind == ShapeKind::Box) continue;
             const Vec3f lo = b.box.lo, hi = b.box.hi;
             for (int l = 0; l < W; ++l) {
                 const float ax = (lo.x - p.org_x[l]) * ix[l], bx = (hi.x - p.org_x[l]) * ix[l];
@@ -441,7 +425,7 @@ private:
                 meets[l] |= int(!(t0 > t1 + 1e-6f * std::fabs(t1)));  // a few ulps of t: the slab test's rounding
             }
         }
-        for (const Sphere& s : shapeBounds().spheres()) {
+        for (const Sphere& s : spheresAndBoxesHere ? std::span<const Sphere>() : std::span(shapeBounds().spheres())) {
             const Vec3f c = s.center;
             const float r2 = s.radius * s.radius;
             for (int l = 0; l < W; ++l) {
@@ -462,6 +446,7 @@ private:
     }
 
     BuildQuality quality_;
+    LaneShapes laneShapes_;  // before bvh_: it says what the BVH leaves out
     EmbreeBvh bvh_;
 };
 

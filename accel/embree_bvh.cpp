@@ -173,8 +173,8 @@ const char* errorName(RTCError code) {
 
 }  // namespace
 
-EmbreeBvh::EmbreeBvh(const Scene& scene, BuildQuality quality, const AlphaTest& alpha)
-    : sceneData_(scene), quality_(toEmbree(quality)) {
+EmbreeBvh::EmbreeBvh(const Scene& scene, BuildQuality quality, const AlphaTest& alpha, bool withoutSpheresAndBoxes)
+    : sceneData_(scene), quality_(toEmbree(quality)), withoutSpheresAndBoxes_(withoutSpheresAndBoxes) {
     build(quality_, alpha);
 }
 
@@ -183,6 +183,7 @@ EmbreeBvh::EmbreeBvh(const EmbreeBvh& base, const Scene& scene, std::shared_ptr<
       log_(base.log_),
       buffers_(std::move(buffers)),
       quality_(base.quality_),
+      withoutSpheresAndBoxes_(base.withoutSpheresAndBoxes_),
       hasGeometry_(base.hasGeometry_),
       boxOfQuad_(base.boxOfQuad_),
       worldHasGeometry_(base.worldHasGeometry_) {
@@ -311,8 +312,10 @@ EmbreeScene EmbreeBvh::newScene(RTCBuildQuality quality, const char* what) {
 void EmbreeBvh::buildWorld(RTCScene target, RTCBuildQuality quality, const AlphaTest& alpha) {
     const bool before = hasGeometry_;
     hasGeometry_ = false;
-    addUserGeometry<Sphere>(target, quality);
-    addBoxQuads(target, quality);
+    if (!withoutSpheresAndBoxes_) {
+        addUserGeometry<Sphere>(target, quality);
+        addBoxQuads(target, quality);
+    }
     addRectangleQuads(target, quality, alpha.rectanglesCutOut());
     addUserGeometry<Disk>(target, quality);
     for (size_t i = 0; i < sceneData_.meshes.size(); ++i)

@@ -5,8 +5,10 @@
 //
 // Geometry layout, attached by ID so hits map back to the Scene's arrays:
 //   geomID 0      spheres (user geometry, callbacks over the packet lanes as
-//                 arrays), primID = index in Scene::spheres
-//   geomID 1      boxes as native quads, 6 per box; boxOfQuad_[primID] = box
+//                 arrays), primID = index in Scene::spheres; none where the
+//                 accelerator tests the spheres and boxes itself (below)
+//   geomID 1      boxes as native quads, 6 per box; boxOfQuad_[primID] = box;
+//                 none where the accelerator tests them itself
 //   geomID 2      rectangles as native quads, primID = index in Scene::rectangles
 //   geomID 3      disks (user geometry), primID = index in Scene::disks
 //   geomID 4 + i  scene.meshes[i] as a native triangle mesh, primID = triangle
@@ -44,7 +46,8 @@
 // on small, distant spheres first, which has not been done).
 //
 // Planes are infinite and have no bounding box a BVH could hold, so they stay
-// out of Embree: the queries test them analytically.
+// out of Embree: the queries test them analytically. So do the spheres and
+// boxes of a scene of few of them (accel/lane_shapes.h).
 //
 // Alpha: the meshes and rectangles whose materials can cut out (AlphaTest)
 // get intersection and occlusion filter functions that ask AlphaTest::present
@@ -84,7 +87,8 @@ public:
     /// the device's messages when Embree reports an error. The scene must
     /// outlive the BVH (its mesh buffers are shared with Embree, not copied).
     /// `alpha` says which geometries get the alpha filters (only read here).
-    EmbreeBvh(const Scene& scene, BuildQuality quality, const AlphaTest& alpha);
+    /// withoutSpheresAndBoxes: the queries test those themselves (LaneShapes).
+    EmbreeBvh(const Scene& scene, BuildQuality quality, const AlphaTest& alpha, bool withoutSpheresAndBoxes);
     /// The BVH of `scene`, which is base's scene with instances moved (and
     /// lights changed, and materials that leave the alpha filters as they
     /// were: the accelerator checks, AlphaTest::sameGeometries): shares base's
@@ -163,6 +167,7 @@ private:
     std::shared_ptr<DeviceLog> log_ = std::make_shared<DeviceLog>();
     std::shared_ptr<const void> buffers_;  // an edited BVH's: the scene its shared scenes read
     RTCBuildQuality quality_ = RTC_BUILD_QUALITY_HIGH;
+    bool withoutSpheresAndBoxes_ = false;
     size_t memoryAfterCommit_ = 0;
     bool hasGeometry_ = false;
     bool hasRootBounds_ = false;  // rootLo_/rootHi_ hold the padded bounds of the Embree geometry

@@ -52,32 +52,6 @@ UvDerivatives uvDerivatives(const Sphere& s, const Vec3f& p) {
     return {Vec3f{-n.z, 0.f, n.x}, Vec3f{n.y * n.x, n.y * n.y - 1.f, n.y * n.z}};
 }
 
-std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
-    // Slab test in object space. The direction is transformed but not
-    // normalised, so t is the same parameter in both spaces.
-    Vec3f o = b.objectFromWorld.applyPoint(r.o);
-    Vec3f d = b.objectFromWorld.applyVector(r.d);
-    float t0 = r.tnear, t1 = r.tfar;
-    float tEnter = -kInfinity, tExit = kInfinity;
-    for (int i = 0; i < 3; ++i) {
-        if (b.lo[i] > b.hi[i]) return std::nullopt;
-        if (d[i] == 0.f) {
-            if (o[i] < b.lo[i] || o[i] > b.hi[i]) return std::nullopt;
-            continue;
-        }
-        float inv = 1.f / d[i];
-        float tn = (b.lo[i] - o[i]) * inv;
-        float tf = (b.hi[i] - o[i]) * inv;
-        if (tn > tf) std::swap(tn, tf);
-        tEnter = std::max(tEnter, tn);
-        tExit = std::min(tExit, tf);
-    }
-    if (tEnter > tExit) return std::nullopt;
-    if (tEnter > t0 && tEnter <= t1) return PrimHit{tEnter, 0.f, 0.f};
-    if (tExit > t0 && tExit <= t1) return PrimHit{tExit, 0.f, 0.f};
-    return std::nullopt;
-}
-
 void completeHit(const Box& b, const Ray& ray, float t, Hit& h, bool withUv) {
     // An axis-aligned box (most are) skips the transforms: the same values,
     // up to the sign of zero components.

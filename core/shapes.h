@@ -78,7 +78,7 @@ struct Disk {
 /// the geometric form (Hearn & Baker; Haines et al., Ray Tracing Gems ch. 7):
 /// far more accurate than b^2 - 4ac when the sphere is small relative to its
 /// distance from the ray origin.
-inline float sphereHitDistance(const Sphere& s, float ox, float oy, float oz, float dx, float dy, float dz,
+[[gnu::always_inline]] inline float sphereHitDistance(const Sphere& s, float ox, float oy, float oz, float dx, float dy, float dz,
                                float tnear, float tfar) {
     const float fx = ox - s.center.x, fy = oy - s.center.y, fz = oz - s.center.z;
     const float a = dx * dx + dy * dy + dz * dz;
@@ -106,7 +106,7 @@ inline std::optional<PrimHit> intersect(const Sphere& s, const Ray& r) {
 /// there is none (parallel, behind a one-sided plane, outside the interval).
 /// Written on the ray's components without branches, so that a loop over the
 /// lanes of a ray packet vectorises; intersect(Plane, Ray) is this on one ray.
-inline float planeHitDistance(const Plane& p, float ox, float oy, float oz, float dx, float dy, float dz, float tnear,
+[[gnu::always_inline]] inline float planeHitDistance(const Plane& p, float ox, float oy, float oz, float dx, float dy, float dz, float tnear,
                               float tfar) {
     const Vec3f& n = p.normal;
     const float denom = dx * n.x + dy * n.y + dz * n.z;
@@ -122,7 +122,46 @@ inline std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
     if (t == kInfinity) return std::nullopt;
     return PrimHit{t, 0.f, 0.f};
 }
-std::optional<PrimHit> intersect(const Box& b, const Ray& r);
+/// One slab of the box test below: narrows [enter, exit] to where o + t d
+/// lies within [lo, hi] on one axis; a direction component of zero leaves no
+/// limit when o lies within and empties the interval otherwise.
+[[gnu::always_inline]] inline void narrowToSlab(float lo, float hi, float o, float d, float& enter, float& exit) {
+    const bool parallel = d == 0.f;
+    const float inv = 1.f / (parallel ? 1.f : d);
+    const float tn = (lo - o) * inv, tf = (hi - o) * inv;
+    // Parallel: no limit from within, an empty interval from outside (selects of floats only, so that loops vectorise).
+    const float outside = (o < lo) | (o > hi) ? kInfinity : -kInfinity;
+    const float near = parallel ? outside : (tn > tf ? tf : tn);
+    const float far = parallel ? -outside : (tn > tf ? tn : tf);
+    enter = enter < near ? near : enter;
+    exit = far < exit ? far : exit;
+}
+/// Distance t along o + t d to box b within (tnear, tfar] (where the ray
+/// enters the box, or else where it leaves it), or +infinity when there is
+/// none: the slab test in the box's object space, where the direction is
+/// transformed but not normalised, so that t is the same parameter in both
+/// spaces (an identity transform changes no finite value). Without branches,
+/// as sphereHitDistance, so that a loop over a packet's lanes vectorises;
+/// intersect(Box, Ray) is this on one ray.
+[[gnu::always_inline]] inline float boxHitDistance(const Box& b, float ox, float oy, float oz, float dx, float dy, float dz, float tnear,
+                            float tfar) {
+    const Vec3f o = b.objectFromWorld.applyPoint({ox, oy, oz});
+    const Vec3f d = b.objectFromWorld.applyVector({dx, dy, dz});
+    float enter = -kInfinity, exit = kInfinity;
+    narrowToSlab(b.lo.x, b.hi.x, o.x, d.x, enter, exit);
+    narrowToSlab(b.lo.y, b.hi.y, o.y, d.y, enter, exit);
+    narrowToSlab(b.lo.z, b.hi.z, o.z, d.z, enter, exit);
+    const bool proper = !(b.lo.x > b.hi.x) & !(b.lo.y > b.hi.y) & !(b.lo.z > b.hi.z);
+    const bool meets = proper & !(enter > exit);
+    const bool enterIn = (enter > tnear) & (enter <= tfar), exitIn = (exit > tnear) & (exit <= tfar);
+    return !meets ? kInfinity : enterIn ? enter : exitIn ? exit : kInfinity;
+}
+/// Inline: the accelerators' box tests.
+inline std::optional<PrimHit> intersect(const Box& b, const Ray& r) {
+    const float t = boxHitDistance(b, r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tnear, r.tfar);
+    if (t == kInfinity) return std::nullopt;
+    return PrimHit{t, 0.f, 0.f};
+}
 std::optional<PrimHit> intersect(const Rectangle& q, const Ray& r);
 std::optional<PrimHit> intersect(const Disk& d, const Ray& r);
 

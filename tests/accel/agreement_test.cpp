@@ -747,6 +747,99 @@ TEST(AcceleratorAgreementTest, OcclusionPacketsAnswerAsSingleRaysAtEveryShapesBo
     }
 }
 
+// A scene of few spheres and boxes, whose tests the Embree accelerator runs
+// over the lanes itself (accel/lane_shapes.h), with the other shape kinds and
+// a mesh in Embree; and the same scene with one sphere more, past the limit,
+// where Embree holds them all. Single rays, packets of every width, camera
+// packets and occlusion agree with the naive loop; on the lane-tested shapes
+// the hits are the naive loop's bit for bit (the very same routines).
+TEST(AcceleratorAgreementTest, FewSpheresAndBoxesTestedOverTheLanesAgreeWithTheNaiveLoop) {
+    FlushDenormalsScope ftz;
+    for (const bool overLimit : {false, true}) {
+        Rng rng(31);
+        Scene scene;
+        for (int i = 0; i < 4; ++i) scene.spheres.push_back(Sphere{rng.inBox(-6.f, 6.f), rng.range(0.5f, 2.f), 0});
+        if (overLimit) scene.spheres.push_back(Sphere{{0.f, 6.f, 0.f}, 1.f, 0});
+        for (int i = 0; i < 4; ++i) {
+            const Vec3f h{rng.range(0.5f, 2.f), rng.range(0.5f, 2.f), rng.range(0.5f, 2.f)};
+            Transform place = Transform::translate(rng.inBox(-6.f, 6.f));
+            if (i % 2) place = place * Transform::rotate(rng.range(0.f, 360.f), rng.direction());
+            scene.boxes.push_back(makeBox(-1.f * h, h, place));
+        }
+        ASSERT_EQ(scene.spheres.size() + scene.boxes.size() > 8, overLimit);
+        scene.rectangles.push_back(Rectangle{{-3.f, 2.f, -3.f}, {2.f, 0.f, 0.f}, {0.f, 0.5f, 2.f}, 0});
+        scene.disks.push_back(Disk{{3.f, -2.f, 2.f}, normalize(Vec3f{0.3f, 1.f, 0.2f}), 1.5f, 0});
+        scene.planes.push_back(Plane{{0.f, -8.f, 0.f}, {0.f, 1.f, 0.f}, false, 0});
+        scene.meshes.push_back(makeIcosphere({-2.f, -1.f, 3.f}, 2.f, 2));
+        scene.finalize(quietLogger());
+        const auto naive = makeNaiveAccelerator(scene);
+        const auto embree = makeEmbreeAccelerator(scene);
+        const std::string label = overLimit ? "nine spheres and boxes" : "eight spheres and boxes";
+
+        std::vector<Ray> rays = cameraRays(96, 64, {0.f, 2.f, 22.f}, {0.f, 0.f, 0.f}, rng);
+        const std::vector<Ray> random = randomRays(6000, rng);
+        rays.insert(rays.end(), random.begin(), random.end());
+        for (size_t i = 0; i < 2000; ++i) {  // along the axes, from planes through the boxes' centres
+            const Box& b = scene.boxes[i % scene.boxes.size()];
+            const Vec3f c = b.worldFromObject.applyPoint({0.f, 0.f, 0.f});
+            Vec3f o = rng.inBox(-9.f, 9.f), d{0.f, 0.f, 0.f};
+            (&o.x)[i % 3] = (&c.x)[i % 3];
+            (&d.x)[(i + 1) % 3] = i % 2 ? 1.f : -1.f;
+            rays.push_back(Ray{o, d, 0.f, kInfinity});
+        }
+        IntersectStats is = compareIntersect(*naive, *embree, rays);
+        EXPECT_GE(double(is.agree), 0.9999 * double(is.rays)) << label;
+        EXPECT_GT(is.naiveHits, rays.size() / 3) << label;
+        size_t analytic = 0;
+        std::vector<std::optional<PrimIntersection>> batch(rays.size());
+        embree->intersectPrimBatch(rays, batch, false);
+        for (size_t i = 0; i < rays.size(); ++i) {
+            const std::optional<PrimIntersection> single = embree->intersectPrim(rays[i]);
+            ASSERT_EQ(batch[i].has_value(), single.has_value()) << label << " ray " << i;
+            if (!single) continue;
+            EXPECT_EQ(batch[i]->ref, single->ref) << label << " ray " << i;
+            const ShapeKind kind = single->ref.kind;
+            if (overLimit || (kind != ShapeKind::Sphere && kind != ShapeKind::Box && kind != ShapeKind::Plane)) continue;
+            // Lane-tested shapes: the naive loop's hit, bit for bit, in packets and alone.
+            ASSERT_TRUE(is.naive[i]) << label << " ray " << i;
+            EXPECT_EQ(single->ref, is.naive[i]->ref) << label << " ray " << i;
+            EXPECT_EQ(single->t, is.naive[i]->t) << label << " ray " << i;
+            EXPECT_EQ(batch[i]->t, single->t) << label << " ray " << i;
+            ++analytic;
+        }
+        if (!overLimit) {
+            EXPECT_GT(analytic, rays.size() / 5);
+        }
+        // The camera rays as the renderer's 16-lane packets.
+        for (size_t b = 0; b + RayLanes::kWidth <= 96 * 64; b += RayLanes::kWidth) {
+            RayLanes lanes;
+            for (int l = 0; l < RayLanes::kWidth; ++l) {
+                lanes.set(l, rays[b + size_t(l)]);
+                lanes.active[l] = 1;
+            }
+            std::optional<PrimIntersection> got[RayLanes::kWidth];
+            embree->intersectPrimLanes(lanes, got);
+            for (int l = 0; l < RayLanes::kWidth; ++l) {
+                const std::optional<PrimIntersection>& want = is.naive[b + size_t(l)];
+                ASSERT_EQ(got[l].has_value(), want.has_value()) << label << " lane ray " << b + size_t(l);
+                if (!want) continue;
+                EXPECT_EQ(got[l]->ref, want->ref) << label << " lane ray " << b + size_t(l);
+                EXPECT_NEAR(got[l]->t, want->t, 1e-5f * std::max(want->t, 1.f)) << label;
+            }
+        }
+        std::vector<Ray> shadow = shadowRays(scene, rays, is.naive, rng);
+        OcclusionStats os = compareOccluded(*naive, *embree, shadow);
+        report(label, is, os);
+        EXPECT_GE(double(os.agree), 0.9999 * double(os.rays)) << label;
+        EXPECT_GT(os.naiveOccluded, shadow.size() / 10) << label;
+        std::vector<uint8_t> occBatch(shadow.size());
+        embree->occludedBatch(shadow, occBatch);
+        size_t same = 0;
+        for (size_t i = 0; i < shadow.size(); ++i) same += (occBatch[i] != 0) == embree->occluded(shadow[i]);
+        EXPECT_EQ(same, shadow.size()) << label;
+    }
+}
+
 // Packets (intersectPrimBatch / occludedBatch, 16, 8, 4 and 1 lanes) give the
 // answers of the single-ray queries, invalid rays included.
 TEST_P(EachAcceleratorBatch, BatchedQueriesMatchSingleRays) {

@@ -4,8 +4,11 @@
 // inputs, and uniform area sampling.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
+#include <utility>
 
 #include "core/scene.h"
 #include "core/shapes.h"
@@ -254,6 +257,80 @@ TEST(BoxTest, SingularTransformNeverHits) {
         expectFiniteOrMiss(h);
     }
     EXPECT_TRUE(bounds(b).empty());
+}
+
+// The slab test as it was written with branches (a reference for the
+// branch-free boxHitDistance the packet loops run): the same t, bit for bit.
+std::optional<float> branchySlabTest(const Box& b, const Ray& r) {
+    const Vec3f o = b.objectFromWorld.applyPoint(r.o), d = b.objectFromWorld.applyVector(r.d);
+    float enter = -kInfinity, exit = kInfinity;
+    for (int i = 0; i < 3; ++i) {
+        if (b.lo[i] > b.hi[i]) return std::nullopt;
+        if (d[i] == 0.f) {
+            if (o[i] < b.lo[i] || o[i] > b.hi[i]) return std::nullopt;
+            continue;
+        }
+        const float inv = 1.f / d[i];
+        float tn = (b.lo[i] - o[i]) * inv, tf = (b.hi[i] - o[i]) * inv;
+        if (tn > tf) std::swap(tn, tf);
+        enter = std::max(enter, tn);
+        exit = std::min(exit, tf);
+    }
+    if (enter > exit) return std::nullopt;
+    if (enter > r.tnear && enter <= r.tfar) return enter;
+    if (exit > r.tnear && exit <= r.tfar) return exit;
+    return std::nullopt;
+}
+
+TEST(BoxTest, RaysParallelToAFaceHitFromWithinItsSlabOnly) {
+    const Box b = makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f});
+    for (const float zero : {0.f, -0.f}) {
+        // Within the y slab (its bounds included) the ray meets the x faces; outside it, nothing.
+        for (const float y : {-1.f, -0.5f, 0.f, 1.f}) {
+            const auto h = intersect(b, makeRay({-5.f, y, 0.f}, {1.f, zero, zero}));
+            ASSERT_TRUE(h) << y;
+            EXPECT_EQ(h->t, 4.f);
+        }
+        for (const float y : {std::nextafter(1.f, 2.f), -1.5f, 7.f})
+            EXPECT_FALSE(intersect(b, makeRay({-5.f, y, 0.f}, {1.f, zero, zero}))) << y;
+        // From inside, along an axis: the far face.
+        const auto inside = intersect(b, makeRay({0.25f, 0.f, 0.f}, {zero, zero, -1.f}));
+        ASSERT_TRUE(inside);
+        EXPECT_EQ(inside->t, 1.f);
+    }
+}
+
+TEST(BoxTest, BranchFreeTestGivesTheBranchyTestsAnswersBitForBit) {
+    const Box boxes[] = {makeBox({-1.f, -2.f, -0.5f}, {2.f, 1.f, 0.5f}),
+                         makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f},
+                                 Transform::translate({0.5f, 0.f, -1.f}) * Transform::rotate(35.f, normalize(Vec3f{1.f, 2.f, 3.f}))),
+                         makeBox({-1.f, -1.f, -1.f}, {1.f, 1.f, 1.f}, Transform::scale({1.f, 0.f, 1.f}))};
+    uint32_t state = 12345u;
+    const auto uniform = [&] {
+        state = state * 1664525u + 1013904223u;
+        return float(state >> 8) * 0x1p-24f;
+    };
+    int hits = 0, compared = 0;
+    for (const Box& b : boxes)
+        for (int k = 0; k < 20000; ++k) {
+            Vec3f o{8.f * uniform() - 4.f, 8.f * uniform() - 4.f, 8.f * uniform() - 4.f};
+            Vec3f d{2.f * uniform() - 1.f, 2.f * uniform() - 1.f, 2.f * uniform() - 1.f};
+            // Every fourth ray runs along an axis plane or an axis, some from a slab's very bound.
+            if (k % 4 == 1) d.y = 0.f;
+            if (k % 4 == 2) d = Vec3f{0.f, 0.f, d.z < 0.f ? -1.f : 1.f};
+            if (k % 8 == 3) o.x = b.lo.x;
+            const float tnear = k % 3 == 0 ? 0.f : uniform(), tfar = k % 5 == 0 ? 2.f + uniform() : kInfinity;
+            const Ray r = makeRay(o, d, tnear, tfar);
+            const std::optional<float> want = branchySlabTest(b, r);
+            const std::optional<PrimHit> got = intersect(b, r);
+            ASSERT_EQ(got.has_value(), want.has_value()) << "box " << &b - boxes << " ray " << k;
+            if (want) {
+                EXPECT_EQ(got->t, *want) << "box " << &b - boxes << " ray " << k;
+            }
+            hits += want ? 1 : 0;
+            ++compared;
+        }
+    EXPECT_GT(hits, compared / 40);  // about 4%: random rays through a cube of side 8
 }
 
 // ------------------------------------------------- uv only where textured

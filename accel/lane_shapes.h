@@ -1,0 +1,124 @@
+// The analytic shapes the Embree accelerator tests itself, over a packet's
+// lanes as arrays, instead of handing them to Embree: the planes always
+// (infinite: no box a BVH could hold), and the spheres and boxes of a scene
+// that has few of them. Embree's call has a fixed cost per packet, and each
+// user-geometry leaf it visits a callback; a handful of branch-free tests over
+// 16 lanes costs less than either, and a packet whose lanes meet nothing
+// Embree holds then skips its call (figures: docs/accelerators.md, "Few
+// analytic shapes are tested over the lanes"). Each test is the core/shapes.h
+// routine the naive loop runs, so the two accelerators agree on these shapes.
+#pragma once
+
+#include <cstdint>
+#include <type_traits>
+#include <vector>
+
+#include "core/scene.h"
+#include "core/shapes.h"
+
+namespace penumbra {
+
+class LaneShapes {
+public:
+    /// At most this many spheres and boxes together are tested here: the
+    /// tests' cost grows with their number, and a BVH's falls behind it only slowly.
+    static constexpr size_t kMaxSpheresAndBoxes = 8;
+
+    explicit LaneShapes(const Scene& scene) {
+        spheresAndBoxes_ = scene.spheres.size() + scene.boxes.size() <= kMaxSpheresAndBoxes;
+        if (spheresAndBoxes_) {
+            spheres_ = scene.spheres;
+            boxes_ = scene.boxes;
+        }
+        planes_ = scene.planes;
+        for (size_t i = 0; i < spheres_.size(); ++i) refs_.push_back(PrimRef{ShapeKind::Sphere, uint32_t(i), 0});
+        for (size_t i = 0; i < boxes_.size(); ++i) refs_.push_back(PrimRef{ShapeKind::Box, uint32_t(i), 0});
+        for (size_t i = 0; i < planes_.size(); ++i) refs_.push_back(PrimRef{ShapeKind::Plane, uint32_t(i), 0});
+    }
+
+    /// Whether the scene's spheres and boxes are tested here: Embree must leave them out.
+    bool holdsSpheresAndBoxes() const { return spheresAndBoxes_; }
+
+    /// The shape a hit index of closest() names (u = v = 0: these shapes' hits carry none).
+    PrimRef ref(int hit) const { return refs_[size_t(hit)]; }
+
+    /// For each lane where valid[l] is set: the closest of these shapes' hits
+    /// in (tnear, tfar], where there is one, shrinks tfar to it and sets
+    /// hit[l] to its index; other lanes keep both. Planes last, as ever.
+    template <int W, class PacketRay>
+    [[gnu::always_inline]] void closest(PacketRay& p, const int* valid, int* hit) const {
+        int index = 0;
+        for (const Sphere& s : spheres_) closestOf<W>(s, index++, p, valid, hit);
+        for (const Box& b : boxes_) closestOf<W>(b, index++, p, valid, hit);
+        for (const Plane& q : planes_) closestOf<W>(q, index++, p, valid, hit);
+    }
+
+    /// blocked[l] |= 1 for each lane whose (tnear, tfar] holds one of these shapes' hits.
+    template <int W, class PacketRay>
+    [[gnu::always_inline]] void occlude(const PacketRay& p, int* blocked) const {
+        for (const Plane& q : planes_) occludeBy<W>(q, p, blocked);
+        for (const Sphere& s : spheres_) occludeBy<W>(s, p, blocked);
+        for (const Box& b : boxes_) occludeBy<W>(b, p, blocked);
+    }
+
+    /// closest() for one ray: its hit index or -1; shrinks r.tfar to the hit.
+    int closest(Ray& r) const {
+        struct One {
+            float org_x[1], org_y[1], org_z[1], dir_x[1], dir_y[1], dir_z[1], tnear[1], tfar[1];
+        } p{{r.o.x}, {r.o.y}, {r.o.z}, {r.d.x}, {r.d.y}, {r.d.z}, {r.tnear}, {r.tfar}};
+        const int valid = 1;
+        int hit = -1;
+        closest<1>(p, &valid, &hit);
+        r.tfar = p.tfar[0];
+        return hit;
+    }
+
+    /// occlude() for one ray.
+    bool occludes(const Ray& r) const {
+        const struct {
+            float org_x[1], org_y[1], org_z[1], dir_x[1], dir_y[1], dir_z[1], tnear[1], tfar[1];
+        } p{{r.o.x}, {r.o.y}, {r.o.z}, {r.d.x}, {r.d.y}, {r.d.z}, {r.tnear}, {r.tfar}};
+        int blocked = 0;
+        occlude<1>(p, &blocked);
+        return blocked != 0;
+    }
+
+private:
+    template <int W, class Shape, class PacketRay>
+    [[gnu::always_inline]] static void closestOf(const Shape& original, int index, PacketRay& p, const int* valid,
+                                                 int* hit) {
+        const Shape shape = original;  // a copy: the lanes' stores cannot change it, so the loop vectorises
+        for (int l = 0; l < W; ++l) {
+            const float t = hitDistance(shape, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
+                                        p.tnear[l], p.tfar[l]);
+            // t is infinite when there is no hit, and at most tfar when there is one.
+            const bool closer = valid[l] && t < kInfinity;
+            hit[l] = closer ? index : hit[l];
+            p.tfar[l] = closer ? t : p.tfar[l];
+        }
+    }
+
+    template <int W, class Shape, class PacketRay>
+    [[gnu::always_inline]] static void occludeBy(const Shape& original, const PacketRay& p, int* blocked) {
+        const Shape shape = original;
+        for (int l = 0; l < W; ++l)
+            blocked[l] |= hitDistance(shape, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
+                                      p.tnear[l], p.tfar[l]) < kInfinity;
+    }
+
+    template <class Shape>
+    [[gnu::always_inline]] static float hitDistance(const Shape& shape, float ox, float oy, float oz, float dx,
+                                                    float dy, float dz, float tnear, float tfar) {
+        if constexpr (std::is_same_v<Shape, Sphere>) return sphereHitDistance(shape, ox, oy, oz, dx, dy, dz, tnear, tfar);
+        if constexpr (std::is_same_v<Shape, Box>) return boxHitDistance(shape, ox, oy, oz, dx, dy, dz, tnear, tfar);
+        if constexpr (std::is_same_v<Shape, Plane>) return planeHitDistance(shape, ox, oy, oz, dx, dy, dz, tnear, tfar);
+    }
+
+    bool spheresAndBoxes_ = false;
+    std::vector<Sphere> spheres_;  // empty unless spheresAndBoxes_
+    std::vector<Box> boxes_;       // empty unless spheresAndBoxes_
+    std::vector<Plane> planes_;
+    std::vector<PrimRef> refs_;    // spheres, boxes, planes: closest()'s hit indices
+};
+
+}  // namespace penumbra

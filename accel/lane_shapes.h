@@ -10,7 +10,6 @@
 #pragma once
 
 #include <cstdint>
-#include <type_traits>
 #include <vector>
 
 #include "core/scene.h"
@@ -48,17 +47,51 @@ public:
     template <int W, class PacketRay>
     [[gnu::always_inline]] void closest(PacketRay& p, const int* valid, int* hit) const {
         int index = 0;
-        for (const Sphere& s : spheres_) closestOf<W>(s, index++, p, valid, hit);
-        for (const Box& b : boxes_) closestOf<W>(b, index++, p, valid, hit);
-        for (const Plane& q : planes_) closestOf<W>(q, index++, p, valid, hit);
+        for (const Sphere s : spheres_)  // copies: the lanes' stores cannot change them, so the loops vectorise
+            closestOf<W>(index++, p, valid, hit, [&](int l) {
+                return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
+                                         p.tnear[l], p.tfar[l]);
+            });
+        if (!boxes_.empty()) {
+            const Reciprocals<W> inv(p);
+            for (const Box& original : boxes_) {
+                const Box b = original;
+                if (b.identity)
+                    closestOf<W>(index++, p, valid, hit, alignedBoxDistance<W>(b, p, inv));
+                else
+                    closestOf<W>(index++, p, valid, hit, transformedBoxDistance(b, p));
+            }
+        }
+        for (const Plane q : planes_)
+            closestOf<W>(index++, p, valid, hit, [&](int l) {
+                return planeHitDistance(q, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
+                                        p.tnear[l], p.tfar[l]);
+            });
     }
 
     /// blocked[l] |= 1 for each lane whose (tnear, tfar] holds one of these shapes' hits.
     template <int W, class PacketRay>
     [[gnu::always_inline]] void occlude(const PacketRay& p, int* blocked) const {
-        for (const Plane& q : planes_) occludeBy<W>(q, p, blocked);
-        for (const Sphere& s : spheres_) occludeBy<W>(s, p, blocked);
-        for (const Box& b : boxes_) occludeBy<W>(b, p, blocked);
+        for (const Plane q : planes_)
+            occludeBy<W>(blocked, [&](int l) {
+                return planeHitDistance(q, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
+                                        p.tnear[l], p.tfar[l]);
+            });
+        for (const Sphere s : spheres_)  // copies: the lanes' stores cannot change them, so the loops vectorise
+            occludeBy<W>(blocked, [&](int l) {
+                return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
+                                         p.tnear[l], p.tfar[l]);
+            });
+        if (!boxes_.empty()) {
+            const Reciprocals<W> inv(p);
+            for (const Box& original : boxes_) {
+                const Box b = original;
+                if (b.identity)
+                    occludeBy<W>(blocked, alignedBoxDistance<W>(b, p, inv));
+                else
+                    occludeBy<W>(blocked, transformedBoxDistance(b, p));
+            }
+        }
     }
 
     /// closest() for one ray: its hit index or -1; shrinks r.tfar to the hit.
@@ -84,34 +117,55 @@ public:
     }
 
 private:
-    template <int W, class Shape, class PacketRay>
-    [[gnu::always_inline]] static void closestOf(const Shape& original, int index, PacketRay& p, const int* valid,
-                                                 int* hit) {
-        const Shape shape = original;  // a copy: the lanes' stores cannot change it, so the loop vectorises
+    // The lanes' slabReciprocal direction components, computed once for all
+    // the axis-aligned boxes (the same values each box's test would compute).
+    template <int W>
+    struct Reciprocals {
+        alignas(64) float x[W], y[W], z[W];
+        template <class PacketRay>
+        [[gnu::always_inline]] explicit Reciprocals(const PacketRay& p) {
+            for (int l = 0; l < W; ++l) {
+                x[l] = slabReciprocal(p.dir_x[l]);
+                y[l] = slabReciprocal(p.dir_y[l]);
+                z[l] = slabReciprocal(p.dir_z[l]);
+            }
+        }
+    };
+
+    // Lane l's distance to box b, as boxHitDistance finds it: an axis-aligned
+    // box's with the shared reciprocals, another's in its object space. Two
+    // forms, picked per box, so that neither loop over the lanes branches.
+    template <int W, class PacketRay>
+    [[gnu::always_inline]] static auto alignedBoxDistance(const Box& b, const PacketRay& p, const Reciprocals<W>& inv) {
+        return [&b, &p, &inv](int l) {
+            return boxHitDistanceInObjectSpace(b, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l],
+                                               p.dir_z[l], inv.x[l], inv.y[l], inv.z[l], p.tnear[l], p.tfar[l]);
+        };
+    }
+    template <class PacketRay>
+    [[gnu::always_inline]] static auto transformedBoxDistance(const Box& b, const PacketRay& p) {
+        return [&b, &p](int l) {
+            return boxHitDistanceTransformed(b, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l],
+                                             p.dir_z[l], p.tnear[l], p.tfar[l]);
+        };
+    }
+
+    // hit[l] and tfar of each valid lane where distance(l) finds a hit
+    // (distance(l) is infinite where there is none, at most tfar where there is one).
+    template <int W, class PacketRay, class Distance>
+    [[gnu::always_inline]] static void closestOf(int index, PacketRay& p, const int* valid, int* hit,
+                                                 const Distance& distance) {
         for (int l = 0; l < W; ++l) {
-            const float t = hitDistance(shape, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
-                                        p.tnear[l], p.tfar[l]);
-            // t is infinite when there is no hit, and at most tfar when there is one.
+            const float t = distance(l);
             const bool closer = valid[l] && t < kInfinity;
             hit[l] = closer ? index : hit[l];
             p.tfar[l] = closer ? t : p.tfar[l];
         }
     }
 
-    template <int W, class Shape, class PacketRay>
-    [[gnu::always_inline]] static void occludeBy(const Shape& original, const PacketRay& p, int* blocked) {
-        const Shape shape = original;
-        for (int l = 0; l < W; ++l)
-            blocked[l] |= hitDistance(shape, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
-                                      p.tnear[l], p.tfar[l]) < kInfinity;
-    }
-
-    template <class Shape>
-    [[gnu::always_inline]] static float hitDistance(const Shape& shape, float ox, float oy, float oz, float dx,
-                                                    float dy, float dz, float tnear, float tfar) {
-        if constexpr (std::is_same_v<Shape, Sphere>) return sphereHitDistance(shape, ox, oy, oz, dx, dy, dz, tnear, tfar);
-        if constexpr (std::is_same_v<Shape, Box>) return boxHitDistance(shape, ox, oy, oz, dx, dy, dz, tnear, tfar);
-        if constexpr (std::is_same_v<Shape, Plane>) return planeHitDistance(shape, ox, oy, oz, dx, dy, dz, tnear, tfar);
+    template <int W, class Distance>
+    [[gnu::always_inline]] static void occludeBy(int* blocked, const Distance& distance) {
+        for (int l = 0; l < W; ++l) blocked[l] |= distance(l) < kInfinity;
     }
 
     bool spheresAndBoxes_ = false;

@@ -122,12 +122,16 @@ inline std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
     if (t == kInfinity) return std::nullopt;
     return PrimHit{t, 0.f, 0.f};
 }
+/// The reciprocal the slab test multiplies by: 1/d, or 1 where d is zero
+/// (narrowToSlab handles that case apart). Shared by every slab of a ray.
+[[gnu::always_inline]] inline float slabReciprocal(float d) { return 1.f / (d == 0.f ? 1.f : d); }
 /// One slab of the box test below: narrows [enter, exit] to where o + t d
-/// lies within [lo, hi] on one axis; a direction component of zero leaves no
-/// limit when o lies within and empties the interval otherwise.
-[[gnu::always_inline]] inline void narrowToSlab(float lo, float hi, float o, float d, float& enter, float& exit) {
+/// lies within [lo, hi] on one axis (inv = slabReciprocal(d)); a direction
+/// component of zero leaves no limit when o lies within and empties the
+/// interval otherwise.
+[[gnu::always_inline]] inline void narrowToSlab(float lo, float hi, float o, float d, float inv, float& enter,
+                                                float& exit) {
     const bool parallel = d == 0.f;
-    const float inv = 1.f / (parallel ? 1.f : d);
     const float tn = (lo - o) * inv, tf = (hi - o) * inv;
     // Parallel: no limit from within, an empty interval from outside (selects of floats only, so that loops vectorise).
     const float outside = (o < lo) | (o > hi) ? kInfinity : -kInfinity;
@@ -136,25 +140,41 @@ inline std::optional<PrimHit> intersect(const Plane& p, const Ray& r) {
     enter = enter < near ? near : enter;
     exit = far < exit ? far : exit;
 }
-/// Distance t along o + t d to box b within (tnear, tfar] (where the ray
-/// enters the box, or else where it leaves it), or +infinity when there is
-/// none: the slab test in the box's object space, where the direction is
-/// transformed but not normalised, so that t is the same parameter in both
-/// spaces (an identity transform changes no finite value). Without branches,
-/// as sphereHitDistance, so that a loop over a packet's lanes vectorises;
-/// intersect(Box, Ray) is this on one ray.
-[[gnu::always_inline]] inline float boxHitDistance(const Box& b, float ox, float oy, float oz, float dx, float dy, float dz, float tnear,
-                            float tfar) {
-    const Vec3f o = b.objectFromWorld.applyPoint({ox, oy, oz});
-    const Vec3f d = b.objectFromWorld.applyVector({dx, dy, dz});
+/// The slab test of boxHitDistance for a ray given in the box's object
+/// space, with its direction's slabReciprocal components (ix, iy, iz).
+[[gnu::always_inline]] inline float boxHitDistanceInObjectSpace(const Box& b, float ox, float oy, float oz, float dx,
+                                                                float dy, float dz, float ix, float iy, float iz,
+                                                                float tnear, float tfar) {
     float enter = -kInfinity, exit = kInfinity;
-    narrowToSlab(b.lo.x, b.hi.x, o.x, d.x, enter, exit);
-    narrowToSlab(b.lo.y, b.hi.y, o.y, d.y, enter, exit);
-    narrowToSlab(b.lo.z, b.hi.z, o.z, d.z, enter, exit);
+    narrowToSlab(b.lo.x, b.hi.x, ox, dx, ix, enter, exit);
+    narrowToSlab(b.lo.y, b.hi.y, oy, dy, iy, enter, exit);
+    narrowToSlab(b.lo.z, b.hi.z, oz, dz, iz, enter, exit);
     const bool proper = !(b.lo.x > b.hi.x) & !(b.lo.y > b.hi.y) & !(b.lo.z > b.hi.z);
     const bool meets = proper & !(enter > exit);
     const bool enterIn = (enter > tnear) & (enter <= tfar), exitIn = (exit > tnear) & (exit <= tfar);
     return !meets ? kInfinity : enterIn ? enter : exitIn ? exit : kInfinity;
+}
+/// boxHitDistance for a box that is not axis-aligned: the ray taken into
+/// the box's object space first (the direction transformed but not
+/// normalised, so that t is the same parameter in both spaces).
+[[gnu::always_inline]] inline float boxHitDistanceTransformed(const Box& b, float ox, float oy, float oz, float dx,
+                                                              float dy, float dz, float tnear, float tfar) {
+    const Vec3f o = b.objectFromWorld.applyPoint({ox, oy, oz});
+    const Vec3f d = b.objectFromWorld.applyVector({dx, dy, dz});
+    return boxHitDistanceInObjectSpace(b, o.x, o.y, o.z, d.x, d.y, d.z, slabReciprocal(d.x), slabReciprocal(d.y),
+                                       slabReciprocal(d.z), tnear, tfar);
+}
+/// Distance t along o + t d to box b within (tnear, tfar] (where the ray
+/// enters the box, or else where it leaves it), or +infinity when there is
+/// none: the slab test in the box's object space (an axis-aligned box's is
+/// world space: its identity transform would change no finite value).
+/// Without branches within each form, as sphereHitDistance, so that a loop
+/// over a packet's lanes vectorises; intersect(Box, Ray) is this on one ray.
+[[gnu::always_inline]] inline float boxHitDistance(const Box& b, float ox, float oy, float oz, float dx, float dy,
+                                                   float dz, float tnear, float tfar) {
+    if (!b.identity) return boxHitDistanceTransformed(b, ox, oy, oz, dx, dy, dz, tnear, tfar);
+    return boxHitDistanceInObjectSpace(b, ox, oy, oz, dx, dy, dz, slabReciprocal(dx), slabReciprocal(dy),
+                                       slabReciprocal(dz), tnear, tfar);
 }
 /// Inline: the accelerators' box tests.
 inline std::optional<PrimHit> intersect(const Box& b, const Ray& r) {

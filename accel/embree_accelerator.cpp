@@ -48,12 +48,12 @@ public:
     EmbreeAccelerator(const Scene& scene, BuildQuality quality, std::shared_ptr<const TextureCache> textures)
         : Accelerator(scene, std::move(textures)),
           quality_(quality),
-          laneShapes_(scene),
+          laneShapes_(scene, shapeBounds().available()),
           bvh_(scene, quality, alpha_, laneShapes_.holdsSpheresAndBoxes()) {}
     EmbreeAccelerator(const EmbreeAccelerator& base, const Scene& scene, std::shared_ptr<const void> buffers)
         : Accelerator(scene, base.textures_),
           quality_(base.quality_),
-          laneShapes_(scene),
+          laneShapes_(scene, base.laneShapes_.holdsSpheresAndBoxes()),
           bvh_(base.bvh_, scene, std::move(buffers)) {}
 
     std::unique_ptr<Accelerator> edited(const Scene& scene, std::shared_ptr<const void> buffers) const override {

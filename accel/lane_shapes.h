@@ -47,11 +47,14 @@ public:
     template <int W, class PacketRay>
     [[gnu::always_inline]] void closest(PacketRay& p, const int* valid, int* hit) const {
         int index = 0;
-        for (const Sphere s : spheres_)  // copies: the lanes' stores cannot change them, so the loops vectorise
-            closestOf<W>(index++, p, valid, hit, [&](int l) {
-                return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
-                                         p.tnear[l], p.tfar[l]);
-            });
+        for (const Sphere s : spheres_) {  // copies: the lanes' stores cannot change them, so the loops vectorise
+            if (anyLaneNear<W>(s, p, valid))
+                closestOf<W>(index, p, valid, hit, [&](int l) {
+                    return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l],
+                                             p.dir_z[l], p.tnear[l], p.tfar[l]);
+                });
+            ++index;
+        }
         if (!boxes_.empty()) {
             const Reciprocals<W> inv(p);
             for (const Box& original : boxes_) {
@@ -78,10 +81,11 @@ public:
                                         p.tnear[l], p.tfar[l]);
             });
         for (const Sphere s : spheres_)  // copies: the lanes' stores cannot change them, so the loops vectorise
-            occludeBy<W>(blocked, [&](int l) {
-                return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
-                                         p.tnear[l], p.tfar[l]);
-            });
+            if (anyLaneNear<W>(s, p, nullptr))
+                occludeBy<W>(blocked, [&](int l) {
+                    return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l],
+                                             p.dir_z[l], p.tnear[l], p.tfar[l]);
+                });
         if (!boxes_.empty()) {
             const Reciprocals<W> inv(p);
             for (const Box& original : boxes_) {
@@ -148,6 +152,28 @@ private:
             return boxHitDistanceTransformed(b, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l],
                                              p.dir_z[l], p.tnear[l], p.tfar[l]);
         };
+    }
+
+    // Whether the line of some lane (of `valid`, or any) may pass within
+    // sphere s: a packet where none does skips the exact test and its
+    // divisions and square root (most packets meet one sphere at most). The
+    // line's squared distance from the centre times a = |d|^2 is
+    // a |f|^2 - b^2 (f = o - centre, b = f.d), no division; its rounding is
+    // a few ulps of a |f|^2, and the margin, 1e-5 of that, lies far above it,
+    // so no lane the exact test could hit is ever left out. NaN counts as near.
+    template <int W, class PacketRay>
+    [[gnu::always_inline]] static bool anyLaneNear(const Sphere& s, const PacketRay& p, const int* valid) {
+        const float r2 = s.radius * s.radius;
+        int near = 0;
+        for (int l = 0; l < W; ++l) {
+            const float fx = p.org_x[l] - s.center.x, fy = p.org_y[l] - s.center.y, fz = p.org_z[l] - s.center.z;
+            const float dx = p.dir_x[l], dy = p.dir_y[l], dz = p.dir_z[l];
+            const float a = dx * dx + dy * dy + dz * dz, b = fx * dx + fy * dy + fz * dz;
+            const float af = a * (fx * fx + fy * fy + fz * fz);
+            const int close = int(!(af - b * b - a * r2 > 1e-5f * af));
+            near |= valid ? valid[l] & close : close;
+        }
+        return near != 0;
     }
 
     // hit[l] and tfar of each valid lane where distance(l) finds a hit

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "accel/shape_bounds.h"
 #include "core/scene.h"
 #include "core/shapes.h"
 
@@ -28,6 +29,7 @@ public:
         if (spheresAndBoxes_) {
             spheres_ = scene.spheres;
             boxes_ = scene.boxes;
+            for (const Box& b : boxes_) boxSpheres_.push_back(boundingSphere(b));
         }
         planes_ = scene.planes;
         for (size_t i = 0; i < spheres_.size(); ++i) refs_.push_back(PrimRef{ShapeKind::Sphere, uint32_t(i), 0});
@@ -55,16 +57,18 @@ public:
                 });
             ++index;
         }
-        if (!boxes_.empty()) {
+        if (const uint32_t near = lanesNearBoxes<W>(p, valid)) {
             const Reciprocals<W> inv(p);
-            for (const Box& original : boxes_) {
-                const Box b = original;
+            for (size_t i = 0; i < boxes_.size(); ++i) {
+                const Box b = boxes_[i];
+                if (!(near >> i & 1u)) continue;
                 if (b.identity)
-                    closestOf<W>(index++, p, valid, hit, alignedBoxDistance<W>(b, p, inv));
+                    closestOf<W>(index + int(i), p, valid, hit, alignedBoxDistance<W>(b, p, inv));
                 else
-                    closestOf<W>(index++, p, valid, hit, transformedBoxDistance(b, p));
+                    closestOf<W>(index + int(i), p, valid, hit, transformedBoxDistance(b, p));
             }
         }
+        index += int(boxes_.size());
         for (const Plane q : planes_)
             closestOf<W>(index++, p, valid, hit, [&](int l) {
                 return planeHitDistance(q, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
@@ -86,10 +90,11 @@ public:
                     return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l],
                                              p.dir_z[l], p.tnear[l], p.tfar[l]);
                 });
-        if (!boxes_.empty()) {
+        if (const uint32_t near = lanesNearBoxes<W>(p, nullptr)) {
             const Reciprocals<W> inv(p);
-            for (const Box& original : boxes_) {
-                const Box b = original;
+            for (size_t i = 0; i < boxes_.size(); ++i) {
+                const Box b = boxes_[i];
+                if (!(near >> i & 1u)) continue;
                 if (b.identity)
                     occludeBy<W>(blocked, alignedBoxDistance<W>(b, p, inv));
                 else
@@ -176,6 +181,26 @@ private:
         return near != 0;
     }
 
+    // Bit i set where some lane may meet box i: its line passes near the
+    // box's bounding sphere (anyLaneNear). None: the packet skips the boxes
+    // and the reciprocals' divisions.
+    template <int W, class PacketRay>
+    [[gnu::always_inline]] uint32_t lanesNearBoxes(const PacketRay& p, const int* valid) const {
+        uint32_t near = 0;
+        for (size_t i = 0; i < boxSpheres_.size(); ++i)
+            near |= anyLaneNear<W>(boxSpheres_[i], p, valid) ? 1u << i : 0u;
+        return near;
+    }
+
+    // A sphere round every corner of the box (its world bounds' centre and
+    // half diagonal, grown by 1e-4: the test of a corner's distance rounds far
+    // less), for lanesNearBoxes.
+    static Sphere boundingSphere(const Box& b) {
+        const Bounds3f box = bounds(b);
+        if (box.empty()) return Sphere{Vec3f{0.f, 0.f, 0.f}, 0.f, 0};  // a box that meets nothing
+        return Sphere{0.5f * (box.lo + box.hi), 0.5f * length(box.hi - box.lo) * (1.f + 1e-4f), 0};
+    }
+
     // hit[l] and tfar of each valid lane where distance(l) finds a hit
     // (distance(l) is infinite where there is none, at most tfar where there is one).
     template <int W, class PacketRay, class Distance>
@@ -197,6 +222,7 @@ private:
     bool spheresAndBoxes_ = false;
     std::vector<Sphere> spheres_;  // empty unless spheresAndBoxes_
     std::vector<Box> boxes_;       // empty unless spheresAndBoxes_
+    std::vector<Sphere> boxSpheres_;  // boundingSphere of each box
     std::vector<Plane> planes_;
     std::vector<PrimRef> refs_;    // spheres, boxes, planes: closest()'s hit indices
 };

@@ -219,8 +219,7 @@ public:
         }
         alignas(64) int query[W];  // the lanes Embree answers: valid ones that meet its bounds
         for (int l = 0; l < W; ++l) query[l] = valid[l];
-        if (any && bvh_.hasGeometry() && keepLanesInRootBounds<W>(rh.ray, query) &&
-            (!shapeBounds().available() || keepLanesMeetingShapes<W>(rh.ray, query))) {
+        if (any && bvh_.hasGeometry() && keepLanesInRootBounds<W>(rh.ray, query)) {
             EmbreeQueryContext ctx(bvh_, alpha_);
             if (coherent && sharesOneOctant<W>(rh.ray, query)) ctx.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
             Packet<W>::intersect(query, bvh_.scene(), &ctx.embree, &rh);
@@ -395,7 +394,8 @@ private:
     // Clears valid[l] for the lanes whose interval [tnear, tfar] meets no
     // bounds of a shape Embree holds (accel/shape_bounds.h; not those of the
     // spheres and boxes laneShapes_ tests): slab tests against the boxes and
-    // the closest approach to the spheres, over the lanes. As in
+    // the closest approach to the spheres, over the lanes. Occlusion packets
+    // only (docs/accelerators.md says why not closest-hit ones). As in
     // keepLanesInRootBounds, a NaN only keeps a lane. In a scene of a few
     // shapes most shadow rays cross open space between the surfaces (the
     // room: those from its walls to the light, past both spheres) and the

@@ -1,10 +1,10 @@
 // The Embree accelerator's queries (Embree 3.13; accel/embree_bvh.h builds
 // what they ask): single rays, batches as 4/8/16-wide packets, and the
 // renderer's 16 lanes. Every ray is validated before Embree sees it; packets
-// that can meet nothing (outside the root bounds, or clear of every shape's
-// bounds in a scene of few shapes) skip Embree's call.
+// that can meet nothing (outside the root bounds, or, for occlusion, clear of
+// every shape's bounds in a scene of few shapes) skip Embree's call.
 //
-// Planes, and the spheres and boxes of a scene of few of them, stay out of
+// Planes, and the spheres and boxes of a scene of few shapes, stay out of
 // Embree and are tested over the lanes here (accel/lane_shapes.h): after the
 // Embree closest-hit query (with tfar clipped to the Embree hit) and before the
 // occlusion query. Both accelerators therefore return identical hits on them.

@@ -47,7 +47,7 @@
 //
 // Planes are infinite and have no bounding box a BVH could hold, so they stay
 // out of Embree: the queries test them analytically. So do the spheres and
-// boxes of a scene of few of them (accel/lane_shapes.h).
+// boxes of a scene of few shapes (accel/lane_shapes.h).
 //
 // Alpha: the meshes and rectangles whose materials can cut out (AlphaTest)
 // get intersection and occlusion filter functions that ask AlphaTest::present

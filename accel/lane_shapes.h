@@ -1,12 +1,13 @@
 // The analytic shapes the Embree accelerator tests itself, over a packet's
 // lanes as arrays, instead of handing them to Embree: the planes always
-// (infinite: no box a BVH could hold), and the spheres and boxes of a scene
-// that has few of them. Embree's call has a fixed cost per packet, and each
+// (infinite: no box a BVH could hold), and the spheres and boxes of a scene of
+// few shapes. Embree's call has a fixed cost per packet, and each
 // user-geometry leaf it visits a callback; a handful of branch-free tests over
 // 16 lanes costs less than either, and a packet whose lanes meet nothing
 // Embree holds then skips its call (figures: docs/accelerators.md, "Few
-// analytic shapes are tested over the lanes"). Each test is the core/shapes.h
-// routine the naive loop runs, so the two accelerators agree on these shapes.
+// spheres and boxes are tested over the lanes"). Each test is the
+// core/shapes.h routine the naive loop runs, so the two accelerators agree on
+// these shapes bit for bit.
 #pragma once
 
 #include <cstdint>
@@ -48,59 +49,17 @@ public:
     /// hit[l] to its index; other lanes keep both. Planes last, as ever.
     template <int W, class PacketRay>
     [[gnu::always_inline]] void closest(PacketRay& p, const int* valid, int* hit) const {
-        int index = 0;
-        for (const Sphere s : spheres_) {  // copies: the lanes' stores cannot change them, so the loops vectorise
-            if (anyLaneNear<W>(s, p, valid))
-                closestOf<W>(index, p, valid, hit, [&](int l) {
-                    return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l],
-                                             p.dir_z[l], p.tnear[l], p.tfar[l]);
-                });
-            ++index;
-        }
-        if (const uint32_t near = lanesNearBoxes<W>(p, valid)) {
-            const Reciprocals<W> inv(p);
-            for (size_t i = 0; i < boxes_.size(); ++i) {
-                const Box b = boxes_[i];
-                if (!(near >> i & 1u)) continue;
-                if (b.identity)
-                    closestOf<W>(index + int(i), p, valid, hit, alignedBoxDistance<W>(b, p, inv));
-                else
-                    closestOf<W>(index + int(i), p, valid, hit, transformedBoxDistance(b, p));
-            }
-        }
-        index += int(boxes_.size());
-        for (const Plane q : planes_)
-            closestOf<W>(index++, p, valid, hit, [&](int l) {
-                return planeHitDistance(q, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
-                                        p.tnear[l], p.tfar[l]);
-            });
+        eachShapeNear<W>(p, valid, [&](int index, const auto& distance) __attribute__((always_inline)) {
+            closestOf<W>(index, p, valid, hit, distance);
+        });
     }
 
     /// blocked[l] |= 1 for each lane whose (tnear, tfar] holds one of these shapes' hits.
     template <int W, class PacketRay>
     [[gnu::always_inline]] void occlude(const PacketRay& p, int* blocked) const {
-        for (const Plane q : planes_)
-            occludeBy<W>(blocked, [&](int l) {
-                return planeHitDistance(q, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
-                                        p.tnear[l], p.tfar[l]);
-            });
-        for (const Sphere s : spheres_)  // copies: the lanes' stores cannot change them, so the loops vectorise
-            if (anyLaneNear<W>(s, p, nullptr))
-                occludeBy<W>(blocked, [&](int l) {
-                    return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l],
-                                             p.dir_z[l], p.tnear[l], p.tfar[l]);
-                });
-        if (const uint32_t near = lanesNearBoxes<W>(p, nullptr)) {
-            const Reciprocals<W> inv(p);
-            for (size_t i = 0; i < boxes_.size(); ++i) {
-                const Box b = boxes_[i];
-                if (!(near >> i & 1u)) continue;
-                if (b.identity)
-                    occludeBy<W>(blocked, alignedBoxDistance<W>(b, p, inv));
-                else
-                    occludeBy<W>(blocked, transformedBoxDistance(b, p));
-            }
-        }
+        eachShapeNear<W>(p, nullptr, [&](int, const auto& distance) __attribute__((always_inline)) {
+            occludeBy<W>(blocked, distance);
+        });
     }
 
     /// closest() for one ray: its hit index or -1; shrinks r.tfar to the hit.
@@ -126,6 +85,42 @@ public:
     }
 
 private:
+    // visit(index, distance) for each shape some lane (of `valid`, or any)
+    // may meet, in the order of the hit indices (spheres, boxes, planes);
+    // distance(l) is lane l's hit distance, as the core/shapes.h routine
+    // finds it. Spheres and boxes no lane passes near are skipped
+    // (anyLaneNear); an axis-aligned box's lanes share the reciprocals, and
+    // the form is picked per box, so that no loop over the lanes branches.
+    template <int W, class PacketRay, class Visit>
+    [[gnu::always_inline]] void eachShapeNear(const PacketRay& p, const int* valid, const Visit& visit) const {
+        int index = 0;
+        for (const Sphere s : spheres_) {  // copies: the lanes' stores cannot change them, so the loops vectorise
+            if (anyLaneNear<W>(s, p, valid))
+                visit(index, [&](int l) {
+                    return sphereHitDistance(s, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l],
+                                             p.dir_z[l], p.tnear[l], p.tfar[l]);
+                });
+            ++index;
+        }
+        if (const uint32_t near = lanesNearBoxes<W>(p, valid)) {
+            const Reciprocals<W> inv(p);
+            for (size_t i = 0; i < boxes_.size(); ++i) {
+                const Box b = boxes_[i];
+                if (!(near >> i & 1u)) continue;
+                if (b.identity)
+                    visit(index + int(i), alignedBoxDistance<W>(b, p, inv));
+                else
+                    visit(index + int(i), transformedBoxDistance(b, p));
+            }
+        }
+        index += int(boxes_.size());
+        for (const Plane q : planes_)
+            visit(index++, [&](int l) {
+                return planeHitDistance(q, p.org_x[l], p.org_y[l], p.org_z[l], p.dir_x[l], p.dir_y[l], p.dir_z[l],
+                                        p.tnear[l], p.tfar[l]);
+            });
+    }
+
     // The lanes' slabReciprocal direction components, computed once for all
     // the axis-aligned boxes (the same values each box's test would compute).
     template <int W>

@@ -24,7 +24,7 @@ public:
     /// fewShapes: the scene has few shapes in all (ShapeBounds::available,
     /// at most 8), so that what Embree keeps is small and most packets skip
     /// it. Elsewhere every packet would pay these tests and Embree's call
-    /// too: a scene with a wall and 14 shapes rendered 1.17x slower so.
+    /// too (docs/accelerators.md has the figures).
     LaneShapes(const Scene& scene, bool fewShapes) {
         spheresAndBoxes_ = fewShapes;
         if (spheresAndBoxes_) {
@@ -64,9 +64,7 @@ public:
 
     /// closest() for one ray: its hit index or -1; shrinks r.tfar to the hit.
     int closest(Ray& r) const {
-        struct One {
-            float org_x[1], org_y[1], org_z[1], dir_x[1], dir_y[1], dir_z[1], tnear[1], tfar[1];
-        } p{{r.o.x}, {r.o.y}, {r.o.z}, {r.d.x}, {r.d.y}, {r.d.z}, {r.tnear}, {r.tfar}};
+        OneRay p(r);
         const int valid = 1;
         int hit = -1;
         closest<1>(p, &valid, &hit);
@@ -76,15 +74,20 @@ public:
 
     /// occlude() for one ray.
     bool occludes(const Ray& r) const {
-        const struct {
-            float org_x[1], org_y[1], org_z[1], dir_x[1], dir_y[1], dir_z[1], tnear[1], tfar[1];
-        } p{{r.o.x}, {r.o.y}, {r.o.z}, {r.d.x}, {r.d.y}, {r.d.z}, {r.tnear}, {r.tfar}};
         int blocked = 0;
-        occlude<1>(p, &blocked);
+        occlude<1>(OneRay(r), &blocked);
         return blocked != 0;
     }
 
 private:
+    // One ray as a packet of one lane, for the single-ray queries.
+    struct OneRay {
+        float org_x[1], org_y[1], org_z[1], dir_x[1], dir_y[1], dir_z[1], tnear[1], tfar[1];
+        explicit OneRay(const Ray& r)
+            : org_x{r.o.x}, org_y{r.o.y}, org_z{r.o.z}, dir_x{r.d.x}, dir_y{r.d.y}, dir_z{r.d.z}, tnear{r.tnear},
+              tfar{r.tfar} {}
+    };
+
     // visit(index, distance) for each shape some lane (of `valid`, or any)
     // may meet, in the order of the hit indices (spheres, boxes, planes);
     // distance(l) is lane l's hit distance, as the core/shapes.h routine

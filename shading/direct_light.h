@@ -73,10 +73,14 @@ public:
     /// Each point's value depends on that point and its key alone.
     void estimate(const Points& points, int depth, Rgb* direct, RayCounts& counts) const;
 
+    /// Whether a lane takes light samples, and its Points::bsdfCount.
+    struct LitLane {
+        bool lit;
+        float bsdfCount;
+    };
     /// Adds to the radiance L of each lane whose shading point `sp` (drawing
     /// with SampleKey `key`) is lit its throughput times the direct light
-    /// there: lit(i) gives lane i's Points::bsdfCount, nullopt for a lane
-    /// that takes no light samples.
+    /// there: lit(i) says for lane i (a LitLane).
     template <class Lane, class Lit>
     void addTo(std::span<Lane> lanes, Lit lit, int depth, RayCounts& counts) const;
 
@@ -171,14 +175,15 @@ template <class Lane, class Lit>
     Points points;
     uint8_t lane[kMaxPoints];
     size_t n = 0;  // counted here, not in points.n, which the stores into points could alias
+    // Every lane written, and kept by counting it: whether a lane is lit
+    // follows the materials, which a branch on it mispredicted.
     for (size_t i = 0; i < lanes.size(); ++i) {
-        const std::optional<float> count = lit(i);
-        if (!count) continue;
+        const LitLane l = lit(i);
         lane[n] = static_cast<uint8_t>(i);
         points.sp[n] = &lanes[i].sp;
         points.key[n] = lanes[i].key;
-        points.bsdfCount[n] = *count;
-        ++n;
+        points.bsdfCount[n] = l.bsdfCount;
+        n += l.lit ? 1 : 0;
     }
     if (n == 0) return;
     points.n = n;

@@ -164,9 +164,8 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
     for (int depth = 0;; ++depth) {
         shadeVertices(batch, std::span<uint8_t>(active, n), depth, firstHits);
         // Next-event estimation where the smooth lobes may reflect light, weighed against the bounce below.
-        const auto lit = [&](size_t i) -> std::optional<float> {
-            if (!active[i] || !(lanes[i].lobes.smooth > 0.f)) return std::nullopt;
-            return lanes[i].lobes.smooth;
+        const auto lit = [&](size_t i) {
+            return DirectLight::LitLane{bool((active[i] != 0) & (lanes[i].lobes.smooth > 0.f)), lanes[i].lobes.smooth};
         };
         direct_.addTo(batch, lit, depth, counts);
 

@@ -32,7 +32,8 @@ struct ShadingPoint {
 
     /// Whether any light can reach the viewer from here (a black or pure
     /// mirror material needs no light samples).
-    bool reflectsLight() const { return glossy || !kd.isBlack(); }
+    /// Without branches: it decides per lane which points take light samples.
+    bool reflectsLight() const { return glossy | (kd.r != 0.f) | (kd.g != 0.f) | (kd.b != 0.f); }
     /// Whether the material's emission ke leaves towards the viewer: emission
     /// is one-sided, from the side the geometric normal faces, unless the
     /// material emits on both sides.

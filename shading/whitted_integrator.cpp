@@ -25,6 +25,8 @@ WhittedIntegrator::WhittedIntegrator(const IntegratorInputs& in)
     for (const Material& m : in.scene.materials)
         continues_ |= m.isMirror() || m.isDielectric() || m.kind == MaterialKind::MetalRoughness;
     continues_ &= settings_.maxDepth > 0;
+    for (const Material& m : in.scene.materials) splits_ |= m.isDielectric();
+    splits_ &= continues_;
 }
 
 namespace {
@@ -53,24 +55,25 @@ struct PathLane {
     Ray ray;
     const Hit* hit;                     // the ray's closest hit (in the batch's hit arrays); null: it escaped
     ShadingPoint sp;                    // written by SurfaceShading::shade where the ray hit
+    // Each colour shares 16 bytes with a scalar set beside it: where a colour
+    // and its neighbour were set together, the compiler merged their stores,
+    // and a colour's first read then spanned two of them and waited for them
+    // to reach the cache (no store forwarding).
     Rgb L;
-    Rgb throughput;
     float pathLength;
-    SampleKey key;
+    Rgb throughput;
     int depth;                          // bounces before the ray being traced
+    SampleKey key;
     uint32_t branch;                    // which branch of the camera sample's tree of rays (branchNumbers)
     int longest;                        // rays along the deepest branch so far (path-length statistics)
     std::vector<PendingRay>* pending;   // transmitted rays still to trace (dielectrics), last first; null
-                                        // where no lane can go on (WhittedIntegrator::continues_)
+                                        // where no lane can split (WhittedIntegrator::splits_)
 };
 
 PENUMBRA_LANE_CLONES void WhittedIntegrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active,
                                                             int depth, RayCounts& counts) const {
     // Light samples where some light can reach the viewer (not at a black or pure mirror material).
-    const auto lit = [&](size_t i) -> std::optional<float> {
-        if (!active[i] || !lanes[i].sp.reflectsLight()) return std::nullopt;
-        return 0.f;
-    };
+    const auto lit = [&](size_t i) { return DirectLight::LitLane{bool((active[i] != 0) & lanes[i].sp.reflectsLight()), 0.f}; };
     direct_.addTo(lanes, lit, depth, counts);
 }
 
@@ -86,23 +89,26 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
                                                         std::span<FirstHit> firstHits, RayCounts& counts) const {
     const size_t n = std::min(cameraRays.size(), kMaxBatch);
     ScratchArray<PathLane, kMaxBatch> lanes;
-    // The lanes' stacks of pending rays, only where a lane can go on: 16 vectors
+    // The lanes' stacks of pending rays, only where a lane can split: 16 vectors
     // made and destroyed for every batch would cost more than most batches' shading.
     Deferred<std::array<std::vector<PendingRay>, kMaxBatch>> pending;
-    if (continues_) pending.emplace();
+    if (splits_) pending.emplace();
     uint8_t active[kMaxBatch];
     for (size_t i = 0; i < n; ++i) {
         PathLane& lane = lanes[i];
         lane.ray = cameraRays[i];
         lane.hit = hits[i] ? &*hits[i] : nullptr;
         lane.L = Rgb{};
-        lane.throughput = Rgb{1.f};
         lane.pathLength = 0.f;
-        lane.key = keys[i];
+        lane.throughput = Rgb{1.f};
         lane.depth = 0;
+        // Field by field, as the caller wrote them: one 16-byte load could not
+        // take the values from those narrower stores still in flight.
+        lane.key.pixelKey = keys[i].pixelKey;
+        lane.key.index = keys[i].index;
         lane.branch = 0;
         lane.longest = 0;
-        lane.pending = continues_ ? &(*pending.get())[i] : nullptr;
+        lane.pending = splits_ ? &(*pending.get())[i] : nullptr;
         active[i] = 1;
         if (!firstHits.empty()) firstHits[i] = FirstHit{};
     }
@@ -139,17 +145,22 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
         for (size_t i = 0; i < n; ++i) {
             PathLane& lane = lanes[i];
             // A lane whose branch ends (miss, diffuse surface, depth limit) takes its next pending ray.
-            active[i] = (active[i] && continueLane(lane, counts)) || resumePending(lane);
-            if (!active[i]) continue;
-            next[nNext] = lane.ray;
-            nextLane[nNext++] = static_cast<uint8_t>(i);
+            active[i] = (active[i] && continueLane(lane, next[nNext], counts)) || resumePending(lane, next[nNext]);
+            if (active[i]) nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;
         // The mirror rays of one pixel block off the same surfaces mostly run
         // together: Embree may trace them as one frustum (coherent).
         accel_.intersectBatch(std::span<const Ray>(next.data(), nNext),
                               std::span<std::optional<Hit>>(bounce.data(), nNext), true);
-        for (size_t c = 0; c < nNext; ++c) lanes[nextLane[c]].hit = bounce[c] ? &*bounce[c] : nullptr;
+        // The lanes take their rays only now: copied just after continueLane wrote
+        // them, field by field, a whole Ray could not be loaded from those stores
+        // in flight (no store forwarding) and waited for them to reach the cache.
+        for (size_t c = 0; c < nNext; ++c) {
+            PathLane& lane = lanes[nextLane[c]];
+            lane.ray = next[c];
+            lane.hit = bounce[c] ? &*bounce[c] : nullptr;
+        }
     }
     // The counts summed here and stored once: updated in memory lane by lane,
     // each lane's update waited for the one before it.
@@ -209,10 +220,10 @@ void WhittedIntegrator::addDirectLightByDepth(std::span<PathLane> lanes, std::sp
     }
 }
 
-bool WhittedIntegrator::continueLane(PathLane& lane, RayCounts& counts) const {
+bool WhittedIntegrator::continueLane(PathLane& lane, Ray& next, RayCounts& counts) const {
     const Material& m = *lane.sp.material;
     if (lane.depth >= settings_.maxDepth) return false;
-    if (lane.depth >= kExactDepth) return continueSampled(lane, counts);
+    if (lane.depth >= kExactDepth) return continueSampled(lane, next, counts);
     if (m.isDielectric()) {
         // Whitted 1980: the mirror ray and the transmitted ray, weighted by Fresnel. The lane follows
         // the mirror ray and keeps the transmitted one pending (its own stack, depth first), so a
@@ -228,7 +239,7 @@ bool WhittedIntegrator::continueLane(PathLane& lane, RayCounts& counts) const {
         }
         lane.throughput *= split.reflectedWeight;
         if (lane.throughput.isBlack()) return false;
-        lane.ray = spawnRay(lane.sp.p, lane.sp.ng, split.reflected);
+        next = spawnRay(lane.sp.p, lane.sp.ng, split.reflected);
         ++lane.depth;
         lane.branch = 2 * lane.branch + 1;
         ++counts.reflection;
@@ -237,13 +248,13 @@ bool WhittedIntegrator::continueLane(PathLane& lane, RayCounts& counts) const {
     if (!lane.sp.mirrors()) return false;
     lane.throughput *= mirrorWeight(lane.sp);
     if (lane.throughput.isBlack()) return false;
-    lane.ray = spawnRay(lane.sp.p, lane.sp.ng, mirrorDirection(lane.sp.wo, lane.sp.ns, lane.sp.ng));
+    next = spawnRay(lane.sp.p, lane.sp.ng, mirrorDirection(lane.sp.wo, lane.sp.ns, lane.sp.ng));
     ++lane.depth;
     ++counts.reflection;
     return true;
 }
 
-bool WhittedIntegrator::continueSampled(PathLane& lane, RayCounts& counts) const {
+bool WhittedIntegrator::continueSampled(PathLane& lane, Ray& next, RayCounts& counts) const {
     const Material& m = *lane.sp.material;
     const BranchNumbers u = branchNumbers(lane.key, lane.depth + 1, lane.branch);
     Vec3f wi;
@@ -270,16 +281,16 @@ bool WhittedIntegrator::continueSampled(PathLane& lane, RayCounts& counts) const
         if (!(u.survive < survive)) return false;
         lane.throughput *= 1.f / survive;
     }
-    lane.ray = spawnRay(lane.sp.p, lane.sp.ng, wi);
+    next = spawnRay(lane.sp.p, lane.sp.ng, wi);
     ++lane.depth;
     ++(transmitted ? counts.transmission : counts.reflection);
     return true;
 }
 
-bool WhittedIntegrator::resumePending(PathLane& lane) const {
-    if (lane.pending->empty()) return false;
+bool WhittedIntegrator::resumePending(PathLane& lane, Ray& next) const {
+    if (!lane.pending || lane.pending->empty()) return false;
     const PendingRay& p = lane.pending->back();
-    lane.ray = p.ray;
+    next = p.ray;
     lane.throughput = p.throughput;
     lane.pathLength = p.pathLength;
     lane.depth = p.depth;

@@ -61,19 +61,20 @@ private:
     void addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth, RayCounts& counts) const;
     /// addDirectLight for lanes at different bounce depths (dielectrics split lanes).
     void addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const;
-    /// Sets the lane's next ray after its shading point (mirror, or a dielectric's mirror ray with the
-    /// transmitted one kept pending); false when the branch ends.
-    bool continueLane(PathLane& lane, RayCounts& counts) const;
+    /// Writes the lane's next ray after its shading point into `next` (mirror, or a dielectric's
+    /// mirror ray with the transmitted one kept pending); false when the branch ends.
+    bool continueLane(PathLane& lane, Ray& next, RayCounts& counts) const;
     /// continueLane beyond kExactDepth: one continuation, and Russian roulette.
-    bool continueSampled(PathLane& lane, RayCounts& counts) const;
-    /// Makes the lane's last pending ray its current one; false when none is left.
-    bool resumePending(PathLane& lane) const;
+    bool continueSampled(PathLane& lane, Ray& next, RayCounts& counts) const;
+    /// Takes the lane's last pending ray (its state, and the ray into `next`); false when none is left.
+    bool resumePending(PathLane& lane, Ray& next) const;
 
     const Scene& scene_;
     RenderSettings settings_;
     SurfaceShading surfaces_;
     DirectLight direct_;
     bool continues_ = false;  // some material sends rays on (mirror or glass) and the depth allows one
+    bool splits_ = false;     // and some is glass, which splits a lane's ray in two (pending rays)
 };
 
 }  // namespace penumbra

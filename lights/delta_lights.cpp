@@ -26,8 +26,18 @@ PENUMBRA_LANE_CLONES void PointLightSource::pointLanes(const LanePoints& at, con
     out.delta = true;
     const Vec3f q = light_.position;
     const Rgb I = light_.intensity;
+    // The points copied first: the loop below, reading them where it writes
+    // `out` (which the compiler could not tell apart), stayed scalar.
+    alignas(64) float px[LightLanes::kWidth], py[LightLanes::kWidth], pz[LightLanes::kWidth];
+    alignas(64) int32_t wanted[LightLanes::kWidth];
     for (int l = 0; l < n; ++l) {
-        const float dx = q.x - at.px[l], dy = q.y - at.py[l], dz = q.z - at.pz[l];
+        px[l] = at.px[l];
+        py[l] = at.py[l];
+        pz[l] = at.pz[l];
+        wanted[l] = want[l];
+    }
+    for (int l = 0; l < n; ++l) {
+        const float dx = q.x - px[l], dy = q.y - py[l], dz = q.z - pz[l];
         const float dist2 = dx * dx + dy * dy + dz * dz;
         const float dist = std::sqrt(dist2);
         const float inv = 1.f / dist, invDist2 = 1.f / dist2;
@@ -42,7 +52,7 @@ PENUMBRA_LANE_CLONES void PointLightSource::pointLanes(const LanePoints& at, con
         out.Lr[l] = I.r * invDist2;
         out.Lg[l] = I.g * invDist2;
         out.Lb[l] = I.b * invDist2;
-        out.ok[l] = int32_t(want[l] != 0) & int32_t(dist2 > 0.f);
+        out.ok[l] = int32_t(wanted[l] != 0) & int32_t(dist2 > 0.f);
     }
 }
 

@@ -220,7 +220,7 @@ void WhittedIntegrator::addDirectLightByDepth(std::span<PathLane> lanes, std::sp
     }
 }
 
-bool WhittedIntegrator::continueLane(PathLane& lane, Ray& next, RayCounts& counts) const {
+[[gnu::always_inline]] inline bool WhittedIntegrator::continueLane(PathLane& lane, Ray& next, RayCounts& counts) const {
     const Material& m = *lane.sp.material;
     if (lane.depth >= settings_.maxDepth) return false;
     if (lane.depth >= kExactDepth) return continueSampled(lane, next, counts);

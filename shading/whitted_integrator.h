@@ -63,7 +63,8 @@ private:
     void addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const;
     /// Writes the lane's next ray after its shading point into `next` (mirror, or a dielectric's
     /// mirror ray with the transmitted one kept pending); false when the branch ends.
-    bool continueLane(PathLane& lane, Ray& next, RayCounts& counts) const;
+    /// Inline: it runs once per lane and bounce, in shadeBatch's lane clones.
+    inline bool continueLane(PathLane& lane, Ray& next, RayCounts& counts) const;
     /// continueLane beyond kExactDepth: one continuation, and Russian roulette.
     bool continueSampled(PathLane& lane, Ray& next, RayCounts& counts) const;
     /// Takes the lane's last pending ray (its state, and the ray into `next`); false when none is left.

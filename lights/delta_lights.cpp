@@ -24,19 +24,24 @@ void PointLightSource::sampleLanes(const LanePoints& at, const float*, const flo
 PENUMBRA_LANE_CLONES void PointLightSource::pointLanes(const LanePoints& at, const int32_t* want, int n,
                                                        LightLanes& out) const {
     out.delta = true;
-    const Vec3f q = light_.position;
     const Rgb I = light_.intensity;
     // The points copied first: the loop below, reading them where it writes
-    // `out` (which the compiler could not tell apart), stayed scalar.
-    alignas(64) float px[LightLanes::kWidth], py[LightLanes::kWidth], pz[LightLanes::kWidth];
-    alignas(64) int32_t wanted[LightLanes::kWidth];
-    for (int l = 0; l < n; ++l) {
-        px[l] = at.px[l];
-        py[l] = at.py[l];
-        pz[l] = at.pz[l];
-        wanted[l] = want[l];
+    // `out` (which the compiler could not tell apart), stayed scalar. Every
+    // lane is set, those from n on one unit from the light and not wanted, so
+    // that the loop runs the full width: a batch of fewer than 16 lanes took
+    // its last ones one at a time.
+    constexpr int W = LightLanes::kWidth;
+    alignas(64) float px[W], py[W], pz[W];
+    alignas(64) int32_t wanted[W];
+    const Vec3f q = light_.position;
+    for (int l = 0; l < W; ++l) {
+        const bool in = l < n;
+        px[l] = in ? at.px[l] : q.x + 1.f;
+        py[l] = in ? at.py[l] : q.y;
+        pz[l] = in ? at.pz[l] : q.z;
+        wanted[l] = in ? want[l] : 0;
     }
-    for (int l = 0; l < n; ++l) {
+    for (int l = 0; l < W; ++l) {
         const float dx = q.x - px[l], dy = q.y - py[l], dz = q.z - pz[l];
         const float dist2 = dx * dx + dy * dy + dz * dz;
         const float dist = std::sqrt(dist2);

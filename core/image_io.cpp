@@ -132,12 +132,21 @@ std::string shortestText(float v) {
 std::vector<uint8_t> srgbPixels(const Film& film, float exposure) {
     const float scale = std::exp2(exposure);
     const Srgb8 srgb8;
-    std::vector<uint8_t> px(size_t(film.width()) * film.height() * 3);
-    for (size_t i = 0, n = size_t(film.width()) * film.height(); i < n; ++i) {
-        Rgb L = film.radiance(i) * scale;
-        px[3 * i] = srgb8(L.r);
-        px[3 * i + 1] = srgb8(L.g);
-        px[3 * i + 2] = srgb8(L.b);
+    const size_t n = size_t(film.width()) * film.height();
+    std::vector<uint8_t> px(n * 3);
+    // A row of pixels' linear values at a time, then their codes in one loop
+    // (Srgb8::codes), which vectorises where code by code it could not.
+    constexpr size_t kChunk = 1024;
+    float linear[3 * kChunk];
+    for (size_t first = 0; first < n; first += kChunk) {
+        const size_t m = std::min(kChunk, n - first);
+        for (size_t k = 0; k < m; ++k) {
+            const Rgb L = film.radiance(first + k) * scale;
+            linear[3 * k] = L.r;
+            linear[3 * k + 1] = L.g;
+            linear[3 * k + 2] = L.b;
+        }
+        srgb8.codes(linear, 3 * m, &px[3 * first]);
     }
     return px;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/image_io.h"
+#include "core/lane_clones.h"
 
 namespace penumbra {
 
@@ -21,6 +22,19 @@ Srgb8::Srgb8() {
             else lo = mid + 1;
         }
         thresholds_[code] = std::bit_cast<float>(lo);
+    }
+}
+
+PENUMBRA_LANE_CLONES void Srgb8::codes(const float* values, size_t n, uint8_t* codes) const {
+    // 64 values at a time into 32-bit codes, then narrowed: storing bytes
+    // directly kept the loop from vectorising.
+    const float* t = thresholds_.data();
+    constexpr size_t kBlock = 64;
+    for (size_t first = 0; first < n; first += kBlock) {
+        const size_t m = n - first < kBlock ? n - first : kBlock;
+        alignas(64) int32_t block[kBlock];
+        for (size_t i = 0; i < m; ++i) block[i] = search(t, values[first + i]);
+        for (size_t i = 0; i < m; ++i) codes[first + i] = uint8_t(block[i]);
     }
 }
 

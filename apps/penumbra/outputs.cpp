@@ -4,7 +4,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -102,11 +101,14 @@ void warnIfEmptyImage(const Options& o, const pnb::Framebuffer& image, const pnb
     constexpr float kBlack = 3e-5f;
     // Nearly all background: at most this share of the pixels see a surface.
     constexpr double kBackgroundShare = 0.01;
-    float brightest = 0.f;
-    const std::vector<float> rgba = image.rgba();
-    for (size_t i = 0; i + 3 < rgba.size(); i += 4)
-        brightest = std::max({brightest, rgba[i], rgba[i + 1], rgba[i + 2]});
-    const bool black = !(brightest > kBlack);
+    // Pixel by pixel up to the first that is not black (mostly the first one):
+    // a copy of the whole image cost a few milliseconds of every render.
+    bool black = true;
+    for (int y = 0; y < image.height() && black; ++y)
+        for (int x = 0; x < image.width() && black; ++x) {
+            const pnb::Color c = image.pixel(x, y);
+            black = !(c.r > kBlack || c.g > kBlack || c.b > kBlack);
+        }
     const double pixels = double(image.width()) * double(image.height());
     const bool empty = scenery && pixels > 0 && double(stats.pixelsHit) <= kBackgroundShare * pixels;
     if (!black && !empty) return;

@@ -47,7 +47,7 @@ bool writePng(png_structp png, png_infop info, const PngImage& image, png_bytepp
     png_set_compression_level(png, image.zlibLevel);
     // Each row by the Sub filter alone: libpng's default tries all five filters per
     // row, which cost more than the deflate, for files within 1.5% of its size
-    // on rendered images (docs/benchmarks.md has the figures).
+    // on rendered images (docs/ab/fig24_session_fd67303_to_586ab34.txt has the sizes).
     png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
     png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);

@@ -165,7 +165,8 @@ void PathIntegrator::radianceBatch(std::span<const Ray> cameraRays, std::span<co
         shadeVertices(batch, std::span<uint8_t>(active, n), depth, firstHits);
         // Next-event estimation where the smooth lobes may reflect light, weighed against the bounce below.
         const auto lit = [&](size_t i) {
-            return DirectLight::LitLane{bool((active[i] != 0) & (lanes[i].lobes.smooth > 0.f)), lanes[i].lobes.smooth};
+            const float smooth = active[i] ? lanes[i].lobes.smooth : 0.f;  // an inactive lane's is not read
+            return DirectLight::LitLane{smooth > 0.f, smooth};
         };
         direct_.addTo(batch, lit, depth, counts);
 

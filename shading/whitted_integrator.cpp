@@ -73,7 +73,8 @@ struct PathLane {
 PENUMBRA_LANE_CLONES void WhittedIntegrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active,
                                                             int depth, RayCounts& counts) const {
     // Light samples where some light can reach the viewer (not at a black or pure mirror material).
-    const auto lit = [&](size_t i) { return DirectLight::LitLane{bool((active[i] != 0) & lanes[i].sp.reflectsLight()), 0.f}; };
+    // An inactive lane's shading point is not read: a lane that escaped at once has none.
+    const auto lit = [&](size_t i) { return DirectLight::LitLane{active[i] != 0 && lanes[i].sp.reflectsLight(), 0.f}; };
     direct_.addTo(lanes, lit, depth, counts);
 }
 

@@ -68,13 +68,14 @@ struct PathLane {
     int longest;                        // rays along the deepest branch so far (path-length statistics)
     std::vector<PendingRay>* pending;   // transmitted rays still to trace (dielectrics), last first; null
                                         // where no lane can split (WhittedIntegrator::splits_)
+    uint8_t reflects;                   // sp.reflectsLight() where the ray hit, 0 where it escaped: set for
+                                        // every lane, so that the lit lanes are chosen without a branch
 };
 
 PENUMBRA_LANE_CLONES void WhittedIntegrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active,
                                                             int depth, RayCounts& counts) const {
     // Light samples where some light can reach the viewer (not at a black or pure mirror material).
-    // An inactive lane's shading point is not read: a lane that escaped at once has none.
-    const auto lit = [&](size_t i) { return DirectLight::LitLane{active[i] != 0 && lanes[i].sp.reflectsLight(), 0.f}; };
+    const auto lit = [&](size_t i) { return DirectLight::LitLane{bool(active[i] & lanes[i].reflects), 0.f}; };
     direct_.addTo(lanes, lit, depth, counts);
 }
 
@@ -125,12 +126,14 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             lane.longest = std::max(lane.longest, lane.depth + 1);
             if (!lane.hit) {
                 lane.L += lane.throughput * direct_.escapedRadiance(lane.ray.d);
+                lane.reflects = 0;
                 active[i] = 0;
                 continue;
             }
             const Hit& hit = *lane.hit;
             lane.pathLength += hit.t;
             surfaces_.shade(hit, lane.ray, lane.pathLength, lane.sp);
+            lane.reflects = lane.sp.reflectsLight();
             const Material& m = *lane.sp.material;
             if (lane.sp.emits()) lane.L += lane.throughput * surfaces_.emission(hit, lane.sp);
             if (first && !firstHits.empty()) firstHits[i] = FirstHit{lane.sp.kd, lane.sp.ns, hit.t};

@@ -22,10 +22,11 @@ WhittedIntegrator::WhittedIntegrator(const IntegratorInputs& in)
                                    in.settings.directLight == DirectLightSampling::Mis ? DirectLight::BsdfSamples::Own
                                                                                        : DirectLight::BsdfSamples::None,
                                    in.internal.areaLightSamples}) {
-    for (const Material& m : in.scene.materials)
+    for (const Material& m : in.scene.materials) {
         continues_ |= m.isMirror() || m.isDielectric() || m.kind == MaterialKind::MetalRoughness;
+        splits_ |= m.isDielectric();
+    }
     continues_ &= settings_.maxDepth > 0;
-    for (const Material& m : in.scene.materials) splits_ |= m.isDielectric();
     splits_ &= continues_;
 }
 
@@ -71,6 +72,35 @@ struct PathLane {
     uint8_t reflects;                   // sp.reflectsLight() where the ray hit, 0 where it escaped: set for
                                         // every lane, so that the lit lanes are chosen without a branch
 };
+
+namespace {
+
+// Each lane's radiance (zero where it is not finite) and the batch's path
+// statistics. The counts are summed here and stored once: updated in memory
+// lane by lane, each lane's update waited for the one before it. Out of line:
+// forced inline into shadeBatch's clones, Figure 24.6 rendered 5% slower.
+void writeRadiance(std::span<const PathLane> lanes, std::span<Rgb> radiance, RayCounts& counts) {
+    uint64_t lengthSum = 0, nonFinite = 0;
+    uint32_t lengthMax = counts.pathLengthMax;
+    for (size_t i = 0; i < lanes.size(); ++i) {
+        lengthSum += uint64_t(lanes[i].longest);
+        lengthMax = std::max(lengthMax, uint32_t(lanes[i].longest));
+        // Component by component: L was just written so, and a copy of it
+        // as a whole (8 + 4 bytes) could not take the values from those
+        // stores (store forwarding) and waited for them to reach the cache.
+        const float r = lanes[i].L.r, g = lanes[i].L.g, b = lanes[i].L.b;
+        const bool finite = Rgb{r, g, b}.isFinite();
+        nonFinite += finite ? 0 : 1;
+        radiance[i].r = finite ? r : 0.f;
+        radiance[i].g = finite ? g : 0.f;
+        radiance[i].b = finite ? b : 0.f;
+    }
+    counts.pathLengthSum += lengthSum;
+    counts.pathLengthMax = lengthMax;
+    counts.nonFinite += nonFinite;
+}
+
+}  // namespace
 
 PENUMBRA_LANE_CLONES void WhittedIntegrator::addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active,
                                                             int depth, RayCounts& counts) const {
@@ -166,26 +196,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             lane.hit = bounce[c] ? &*bounce[c] : nullptr;
         }
     }
-    // The counts summed here and stored once: updated in memory lane by lane,
-    // each lane's update waited for the one before it.
-    uint64_t lengthSum = 0, nonFinite = 0;
-    uint32_t lengthMax = counts.pathLengthMax;
-    for (size_t i = 0; i < n; ++i) {
-        lengthSum += uint64_t(lanes[i].longest);
-        lengthMax = std::max(lengthMax, uint32_t(lanes[i].longest));
-        // Component by component: L was just written so, and a copy of it
-        // as a whole (8 + 4 bytes) could not take the values from those
-        // stores (store forwarding) and waited for them to reach the cache.
-        const float r = lanes[i].L.r, g = lanes[i].L.g, b = lanes[i].L.b;
-        const bool finite = Rgb{r, g, b}.isFinite();
-        nonFinite += finite ? 0 : 1;
-        radiance[i].r = finite ? r : 0.f;
-        radiance[i].g = finite ? g : 0.f;
-        radiance[i].b = finite ? b : 0.f;
-    }
-    counts.pathLengthSum += lengthSum;
-    counts.pathLengthMax = lengthMax;
-    counts.nonFinite += nonFinite;
+    writeRadiance(std::span<const PathLane>(lanes.data(), n), radiance, counts);
 }
 
 void WhittedIntegrator::addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const {

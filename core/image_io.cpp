@@ -134,7 +134,7 @@ std::vector<uint8_t> srgbPixels(const Film& film, float exposure) {
     const Srgb8 srgb8;
     const size_t n = size_t(film.width()) * film.height();
     std::vector<uint8_t> px(n * 3);
-    // A row of pixels' linear values at a time, then their codes in one loop
+    // 1,024 pixels' linear values at a time, then their codes in one loop
     // (Srgb8::codes), which vectorises where code by code it could not.
     constexpr size_t kChunk = 1024;
     float linear[3 * kChunk];

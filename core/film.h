@@ -36,10 +36,27 @@ public:
     /// Index of full-frame pixel (x, y), which must lie in the window.
     size_t index(int x, int y) const { return size_t(y - window_.y0) * size_t(width()) + size_t(x - window_.x0); }
 
+    /// One pixel's radiance sums, in the film's precision.
+    struct RadianceSum {
+        double r = 0.0, g = 0.0, b = 0.0;
+        void add(const Rgb& L) {
+            r += L.r;
+            g += L.g;
+            b += L.b;
+        }
+    };
+    /// Pixel i's sums, read and set whole: a renderer adds a block's samples
+    /// to copies and stores them once, the sums addRadiance would give.
+    RadianceSum radianceSum(size_t i) const { return {sum_[3 * i], sum_[3 * i + 1], sum_[3 * i + 2]}; }
+    void setRadianceSum(size_t i, const RadianceSum& s) {
+        sum_[3 * i] = s.r;
+        sum_[3 * i + 1] = s.g;
+        sum_[3 * i + 2] = s.b;
+    }
     void addRadiance(size_t i, const Rgb& L) {
-        sum_[3 * i] += L.r;
-        sum_[3 * i + 1] += L.g;
-        sum_[3 * i + 2] += L.b;
+        RadianceSum s = radianceSum(i);
+        s.add(L);
+        setRadianceSum(i, s);
     }
     void addAov(size_t i, const Rgb& albedo, const Vec3f& normal, float depth) {
         albedo_[3 * i] += albedo.r;

@@ -190,8 +190,19 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
     Rgb radiance[kMax];
     FirstHit first[kMax];
     const bool aovs = c.film.hasAovs();
+    // The block's pixel sums stay here while its samples are added, and go to
+    // the film once (also when cancelled): a read and a write of the film per
+    // sample cost more than the additions.
+    Film::RadianceSum sum[kMax];
+    for (size_t i = 0; i < count; ++i) sum[i] = c.film.radianceSum(filmIndex[i]);
+    const auto storeSums = [&] {
+        for (size_t i = 0; i < count; ++i) c.film.setRadianceSum(filmIndex[i], sum[i]);
+    };
     for (uint32_t s = c.firstSample; s < c.firstSample + c.sampleCount; ++s) {
-        if (c.cancelled()) return false;
+        if (c.cancelled()) {
+            storeSums();
+            return false;
+        }
         if (asLanes) {
             alignas(64) float ux[kMax], uy[kMax];
             sets.pixel->sample(s, ux, uy);
@@ -223,10 +234,11 @@ PENUMBRA_LANE_CLONES bool renderBlock(const PassContext& c, const PixelRect& b, 
                                    std::span<const SampleKey>(keys, count), std::span<Rgb>(radiance, count), firstHits,
                                    counts);
         for (size_t i = 0; i < count; ++i) {
-            c.film.addRadiance(filmIndex[i], radiance[i]);
+            sum[i].add(radiance[i]);
             if (aovs) c.film.addAov(filmIndex[i], first[i].albedo, first[i].normal, first[i].depth);
         }
     }
+    storeSums();
     return true;
 }
 

@@ -26,7 +26,6 @@ import argparse
 import datetime
 import json
 import os
-import re
 import shutil
 import statistics
 import subprocess
@@ -35,8 +34,34 @@ import tempfile
 
 
 def strip_comments(text):
-    # The scene format allows // line comments (outside strings); the lights-removed copy is plain JSON.
-    return "\n".join(line for line in text.splitlines() if not re.match(r"\s*//", line))
+    """The scene without its // and /* */ comments (which the scene format
+    allows outside strings): the lights-removed copy is plain JSON."""
+    out, i, n, in_string = [], 0, len(text), False
+    while i < n:
+        c = text[i]
+        if in_string:
+            out.append(c)
+            if c == "\\" and i + 1 < n:
+                out.append(text[i + 1])
+                i += 1
+            elif c == '"':
+                in_string = False
+        elif c == '"':
+            in_string = True
+            out.append(c)
+        elif text.startswith("//", i):
+            i = text.find("\n", i)
+            if i < 0:
+                break
+            continue
+        elif text.startswith("/*", i):
+            end = text.find("*/", i + 2)
+            i = n if end < 0 else end + 2
+            continue
+        else:
+            out.append(c)
+        i += 1
+    return "".join(out)
 
 
 def render(binary, scene, options, stats_path):
@@ -56,8 +81,11 @@ def main():
     args = parser.parse_args()
     options = [o for o in args.options if o != "--"]
     scene = os.path.abspath(args.scene)
-    with open(scene) as f:
-        document = json.loads(strip_comments(f.read()))
+    try:
+        with open(scene) as f:
+            document = json.loads(strip_comments(f.read()))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+        sys.exit(f"{args.scene}: not a readable JSON scene ({e})")
     if not document.get("lights"):
         sys.exit(f"{args.scene}: the scene has no lights to remove")
 

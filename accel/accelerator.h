@@ -63,9 +63,18 @@ public:
     /// pixel block), so that Embree may trace a packet as one frustum, as it
     /// does intersectLanes' camera rays (same primitives; t may differ from
     /// the single-ray answer by a few ulps, as there).
+    ///
+    /// leaving (empty, or one per ray): the index in Scene::meshes of the
+    /// convex mesh ray i leaves from its outer side and away from it
+    /// (Scene::convexMeshAt, and the ray's direction above the surface), or
+    /// -1. Such a ray cannot meet that mesh again, so a query may leave the
+    /// mesh out for it: in a scene of few shapes a packet whose rays all
+    /// leave what Embree holds skips Embree's call. A hint: the answers are
+    /// the same with or without it.
     virtual void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out,
-                                    bool coherent = false) const {
+                                    bool coherent = false, std::span<const int32_t> leaving = {}) const {
         (void)coherent;
+        (void)leaving;
         for (size_t i = 0; i < rays.size(); ++i) out[i] = intersectPrim(rays[i]);
     }
     /// out[i] = 1 when rays[i] is occluded, else 0.
@@ -74,17 +83,21 @@ public:
     }
     /// out[l] = 1 where lane l holds a ray (rays.active[l]) and it is
     /// occluded, else 0: occluded() for rays given as lanes. Embree takes the
-    /// lanes' arrays as a 16-wide packet as they are.
-    virtual void occludedLanes(const RayLanes& rays, uint8_t* out) const {
+    /// lanes' arrays as a 16-wide packet as they are. leaving (null, or 16):
+    /// the hints of intersectPrimBatch.
+    virtual void occludedLanes(const RayLanes& rays, uint8_t* out, const int32_t* leaving = nullptr) const {
+        (void)leaving;
         for (int l = 0; l < RayLanes::kWidth; ++l) out[l] = rays.active[l] && occluded(rays.ray(l)) ? 1 : 0;
     }
     /// intersectPrimBatch followed by Scene::completeHit.
-    void intersectBatch(std::span<const Ray> rays, std::span<std::optional<Hit>> out, bool coherent = false) const {
+    void intersectBatch(std::span<const Ray> rays, std::span<std::optional<Hit>> out, bool coherent = false,
+                        std::span<const int32_t> leaving = {}) const {
         constexpr size_t kChunk = 16;  // one packet: the renderer's batches are 16 rays
         EmptyOptionals<PrimIntersection, kChunk> thin;
         for (size_t b = 0; b < rays.size(); b += kChunk) {
             const size_t n = std::min(kChunk, rays.size() - b);
-            intersectPrimBatch(rays.subspan(b, n), std::span(thin.data(), n), coherent);
+            intersectPrimBatch(rays.subspan(b, n), std::span(thin.data(), n), coherent,
+                               leaving.empty() ? leaving : leaving.subspan(b, n));
             for (size_t i = 0; i < n; ++i) completeThin(rays[b + i], thin[i], out[b + i]);
         }
     }

@@ -1,8 +1,9 @@
 // The Embree accelerator's queries (Embree 3.13; accel/embree_bvh.h builds
 // what they ask): single rays, batches as 4/8/16-wide packets, and the
 // renderer's 16 lanes. Every ray is validated before Embree sees it; packets
-// that can meet nothing (outside the root bounds, or, for occlusion, clear of
-// every shape's bounds in a scene of few shapes) skip Embree's call.
+// that can meet nothing (outside the root bounds, or, for occlusion and for
+// rays leaving a convex mesh, clear of every other shape's bounds in a scene
+// of few shapes) skip Embree's call.
 //
 // Planes, and the spheres and boxes of a scene of few shapes, stay out of
 // Embree and are tested over the lanes here (accel/lane_shapes.h): after the
@@ -92,24 +93,25 @@ public:
 
     // The virtual entry points hand over to non-virtual bodies compiled per ISA (core/lane_clones.h).
     void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out,
-                            bool coherent) const override {
-        intersectPackets(rays, out, coherent);
+                            bool coherent, std::span<const int32_t> leaving) const override {
+        intersectPackets(rays, out, coherent, leaving);
     }
 
     PENUMBRA_LANE_CLONES void intersectPackets(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out,
-                                               bool coherent) const {
+                                               bool coherent, std::span<const int32_t> leaving) const {
         // Packets as wide as the remaining rays need: 16, 8 or 4 lanes.
         for (size_t i = 0; i < rays.size();) {
             const size_t left = rays.size() - i;
+            const int32_t* leave = leaving.empty() ? nullptr : leaving.data() + i;
             if (left == 1) {
                 out[i] = intersectPrim(rays[i]);
                 i += 1;
             } else if (left <= 4) {
-                i += intersectPacket<4>(rays.subspan(i), out.subspan(i), coherent);
+                i += intersectPacket<4>(rays.subspan(i), out.subspan(i), coherent, leave);
             } else if (left <= 8) {
-                i += intersectPacket<8>(rays.subspan(i), out.subspan(i), coherent);
+                i += intersectPacket<8>(rays.subspan(i), out.subspan(i), coherent, leave);
             } else {
-                i += intersectPacket<16>(rays.subspan(i), out.subspan(i), coherent);
+                i += intersectPacket<16>(rays.subspan(i), out.subspan(i), coherent, leave);
             }
         }
     }
@@ -152,16 +154,32 @@ public:
 
     // One packet of up to W rays; returns how many rays it answered. Lanes
     // whose ray is invalid (counted) or has an empty interval stay inactive,
-    // so no invalid ray reaches Embree; they miss, exactly as intersectPrim says.
+    // so no invalid ray reaches Embree; they miss, exactly as intersectPrim
+    // says. leaving: null, or the hints of the packet's rays (intersectPrimBatch).
     template <int W>
     [[gnu::always_inline]] size_t intersectPacket(std::span<const Ray> rays,
-                                                  std::span<std::optional<PrimIntersection>> out, bool coherent) const {
+                                                  std::span<std::optional<PrimIntersection>> out, bool coherent,
+                                                  const int32_t* leaving) const {
         const int n = static_cast<int>(std::min<size_t>(W, rays.size()));
         alignas(64) int ok[W];
         alignas(64) typename Packet<W>::RayHit rh;
         loadLanes<W>(rays, n, rh.ray, ok);
-        answerPacket<W>(rh, ok, n, out.data(), coherent);
+        alignas(64) int32_t leave[W];
+        const bool hinted = leaving && loadLeaving<W>(leaving, n, leave);
+        answerPacket<W>(rh, ok, n, out.data(), coherent, hinted ? leave : nullptr);
         return size_t(n);
+    }
+
+    // The first n hints into a packet's W lanes (-1 beyond); whether any ray
+    // leaves a mesh that shapeBounds() can set aside, which only a scene of few shapes keeps.
+    template <int W>
+    [[gnu::always_inline]] bool loadLeaving(const int32_t* leaving, int n, int32_t* leave) const {
+        int any = 0;
+        for (int l = 0; l < W; ++l) {
+            leave[l] = l < n ? leaving[l] : -1;
+            any |= int(leave[l] >= 0);
+        }
+        return any && shapeBounds().available();
     }
 
     void intersectPrimLanes(const RayLanes& rays, std::optional<PrimIntersection>* out) const override {
@@ -172,7 +190,7 @@ public:
         alignas(64) int ok[RayLanes::kWidth];
         alignas(64) RTCRayHit16 rh;
         loadRayLanes(rays, rh.ray, ok);
-        answerPacket<RayLanes::kWidth>(rh, ok, RayLanes::kWidth, out, true);
+        answerPacket<RayLanes::kWidth>(rh, ok, RayLanes::kWidth, out, true, nullptr);
     }
 
     // Whether Embree's coherent traversal (RTC_INTERSECT_CONTEXT_FLAG_COHERENT:
@@ -204,10 +222,13 @@ public:
     // (the others hold the idle ray); writes the first n answers. coherent:
     // the lanes run close together (a block of camera rays, or their mirror
     // rays: Accelerator::intersectPrimBatch), for Embree's coherent traversal
-    // where sharesOneOctant allows it.
+    // where sharesOneOctant allows it. leaving: null, or the lanes' hints
+    // (intersectPrimBatch), some set, in a scene of few shapes: the lanes
+    // that meet no shape Embree holds (their own convex mesh aside) skip it.
     template <int W>
     [[gnu::always_inline]] void answerPacket(typename Packet<W>::RayHit& rh, const int* ok, int n,
-                                             std::optional<PrimIntersection>* out, bool coherent) const {
+                                             std::optional<PrimIntersection>* out, bool coherent,
+                                             const int32_t* leaving) const {
         alignas(64) int valid[W];
         int any = 0;
         for (int l = 0; l < W; ++l) {
@@ -219,7 +240,8 @@ public:
         }
         alignas(64) int query[W];  // the lanes Embree answers: valid ones that meet its bounds
         for (int l = 0; l < W; ++l) query[l] = valid[l];
-        if (any && bvh_.hasGeometry() && keepLanesInRootBounds<W>(rh.ray, query)) {
+        if (any && bvh_.hasGeometry() && keepLanesInRootBounds<W>(rh.ray, query) &&
+            (!leaving || keepLanesMeetingShapes<W>(rh.ray, query, leaving))) {
             EmbreeQueryContext ctx(bvh_, alpha_);
             if (coherent && sharesOneOctant<W>(rh.ray, query)) ctx.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
             Packet<W>::intersect(query, bvh_.scene(), &ctx.embree, &rh);
@@ -249,17 +271,19 @@ public:
         alignas(64) int ok[W];
         alignas(64) typename Packet<W>::RayOnly pr;
         loadLanes<W>(rays, n, pr, ok);
-        occludedLoaded<W>(pr, ok, n, out.data());
+        occludedLoaded<W>(pr, ok, n, out.data(), nullptr);
         return size_t(n);
     }
 
-    void occludedLanes(const RayLanes& rays, uint8_t* out) const override { occludedRayLanes(rays, out); }
+    void occludedLanes(const RayLanes& rays, uint8_t* out, const int32_t* leaving) const override {
+        occludedRayLanes(rays, out, leaving);
+    }
 
-    PENUMBRA_LANE_CLONES void occludedRayLanes(const RayLanes& rays, uint8_t* out) const {
+    PENUMBRA_LANE_CLONES void occludedRayLanes(const RayLanes& rays, uint8_t* out, const int32_t* leaving) const {
         alignas(64) int ok[RayLanes::kWidth];
         alignas(64) RTCRay16 pr;
         loadRayLanes(rays, pr, ok);
-        occludedLoaded<RayLanes::kWidth>(pr, ok, RayLanes::kWidth, out);
+        occludedLoaded<RayLanes::kWidth>(pr, ok, RayLanes::kWidth, out, leaving);
     }
 
     // The lanes' arrays are the packet's: copies them in with the validity
@@ -301,10 +325,11 @@ public:
     }
 
     // The occlusion query of a loaded packet whose valid lanes ok[] marks
-    // (the others hold the idle ray); writes the first n answers.
+    // (the others hold the idle ray); writes the first n answers. leaving:
+    // null, or the W lanes' hints (intersectPrimBatch).
     template <int W>
     [[gnu::always_inline]] void occludedLoaded(typename Packet<W>::RayOnly& pr, const int* ok, int n,
-                                               uint8_t* out) const {
+                                               uint8_t* out, const int32_t* leaving) const {
         alignas(64) int valid[W];
         alignas(64) int blocked[W];
         // The open interval (tnear, tfar), as in occluded(): every test here
@@ -321,7 +346,7 @@ public:
         }
         for (int l = 0; l < n; ++l) out[l] = static_cast<uint8_t>(blocked[l]);
         if (!any || !keepLanesInRootBounds<W>(pr, valid)) return;
-        if (shapeBounds().available() && !keepLanesMeetingShapes<W>(pr, valid)) return;
+        if (shapeBounds().available() && !keepLanesMeetingShapes<W>(pr, valid, leaving)) return;
         EmbreeQueryContext ctx(bvh_, alpha_);
         Packet<W>::occluded(valid, bvh_.scene(), &ctx.embree, &pr);
         for (int l = 0; l < n; ++l)
@@ -395,24 +420,43 @@ private:
     // bounds of a shape Embree holds (accel/shape_bounds.h; not those of the
     // spheres and boxes laneShapes_ tests): slab tests against the boxes and
     // the closest approach to the spheres, over the lanes. Occlusion packets
-    // only (docs/accelerators.md says why not closest-hit ones). As in
+    // and the closest-hit packets of rays that leave a convex mesh
+    // (docs/accelerators.md says why not other closest-hit ones). As in
     // keepLanesInRootBounds, a NaN only keeps a lane. In a scene of a few
     // shapes most shadow rays cross open space between the surfaces (the
     // room: those from its walls to the light, past both spheres) and the
-    // packet then skips Embree's call. Returns whether any lane is left.
+    // packet then skips Embree's call. leaving (null, or the W lanes' hints:
+    // intersectPrimBatch): a lane does not meet the box of the convex mesh it
+    // leaves. Returns whether any lane is left.
     template <int W, class PacketRay>
-    [[gnu::always_inline]] bool keepLanesMeetingShapes(const PacketRay& p, int* valid) const {
+    [[gnu::always_inline]] bool keepLanesMeetingShapes(const PacketRay& p, int* valid, const int32_t* leaving) const {
+        alignas(64) int32_t leave[W];
+        for (int l = 0; l < W; ++l) leave[l] = leaving ? leaving[l] : -1;
         alignas(64) int meets[W];
+        for (int l = 0; l < W; ++l) meets[l] = 0;
+        // The reciprocals once a box has lanes to test: none where every
+        // lane leaves the one mesh Embree holds.
         alignas(64) float ix[W], iy[W], iz[W];
-        for (int l = 0; l < W; ++l) {
-            meets[l] = 0;
-            ix[l] = 1.f / (p.dir_x[l] != 0.f ? p.dir_x[l] : 1e-30f);
-            iy[l] = 1.f / (p.dir_y[l] != 0.f ? p.dir_y[l] : 1e-30f);
-            iz[l] = 1.f / (p.dir_z[l] != 0.f ? p.dir_z[l] : 1e-30f);
-        }
+        bool inverted = false;
         const bool spheresAndBoxesHere = laneShapes_.holdsSpheresAndBoxes();
         for (const ShapeBounds::PaddedBox& b : shapeBounds().boxes()) {
             if (spheresAndBoxesHere && b.ref.kind == ShapeKind::Box) continue;
+            const int32_t mesh = b.ref.kind == ShapeKind::Mesh ? int32_t(b.ref.object) : -2;
+            alignas(64) int test[W];
+            int anyTest = 0;
+            for (int l = 0; l < W; ++l) {
+                test[l] = valid[l] & int(leave[l] != mesh);
+                anyTest |= test[l];
+            }
+            if (!anyTest) continue;
+            if (!inverted) {
+                for (int l = 0; l < W; ++l) {
+                    ix[l] = 1.f / (p.dir_x[l] != 0.f ? p.dir_x[l] : 1e-30f);
+                    iy[l] = 1.f / (p.dir_y[l] != 0.f ? p.dir_y[l] : 1e-30f);
+                    iz[l] = 1.f / (p.dir_z[l] != 0.f ? p.dir_z[l] : 1e-30f);
+                }
+                inverted = true;
+            }
             const Vec3f lo = b.box.lo, hi = b.box.hi;
             for (int l = 0; l < W; ++l) {
                 const float ax = (lo.x - p.org_x[l]) * ix[l], bx = (hi.x - p.org_x[l]) * ix[l];
@@ -422,7 +466,8 @@ private:
                     std::max(std::max(p.tnear[l], std::min(ax, bx)), std::max(std::min(ay, by), std::min(az, bz)));
                 const float t1 =
                     std::min(std::min(p.tfar[l], std::max(ax, bx)), std::min(std::max(ay, by), std::max(az, bz)));
-                meets[l] |= int(!(t0 > t1 + 1e-6f * std::fabs(t1)));  // a few ulps of t: the slab test's rounding
+                // A few ulps of t: the slab test's rounding.
+                meets[l] |= int(!(t0 > t1 + 1e-6f * std::fabs(t1))) & test[l];
             }
         }
         for (const Sphere& s : spheresAndBoxesHere ? std::span<const Sphere>() : std::span(shapeBounds().spheres())) {

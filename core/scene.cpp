@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/lane_clones.h"
+#include "core/mesh_convexity.h"
 #include "core/mesh_tangents.h"
 #include "core/scene_range.h"
 
@@ -197,6 +198,8 @@ SceneFixups Scene::finalize(const Logger& log) {
                  " instance(s) with an unknown or empty prototype or a non-finite or singular transform");
     fix.droppedInstances += beyond.instances;
     if (badIds) log.warn(std::to_string(badIds) + " material reference(s) out of range; using material 0");
+    convexSlack_.clear();
+    for (const TriangleMesh& m : meshes) convexSlack_.push_back(convexSlack(m));
     return fix;
 }
 

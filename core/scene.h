@@ -149,6 +149,17 @@ public:
     /// serve another), or null.
     const TextureSource* findTexture(const std::string& name) const;
 
+    /// Where a Mesh hit at p lies on a convex mesh whose triangles face
+    /// outwards (core/mesh_convexity.h), with every vertex within half the ray
+    /// offset at p (rayOffsetScale) of the triangles' planes: that mesh's
+    /// index. A ray leaving p above the hit's front side then cannot meet the
+    /// mesh again (the accelerators' `leaving` hints). -1 for any other hit,
+    /// and before finalize().
+    int32_t convexMeshAt(const PrimRef& ref, const Vec3f& p) const {
+        if (ref.kind != ShapeKind::Mesh || ref.object >= convexSlack_.size()) return -1;
+        return convexSlack_[ref.object] < 0.5f * rayOffsetScale(p) ? int32_t(ref.object) : -1;
+    }
+
     /// Triangles as rendered: each instance counts its prototype's triangles.
     size_t triangleCount() const;
     /// The mesh a Mesh or Instance hit lies on and the transform that places
@@ -171,6 +182,7 @@ private:
     std::optional<HitTriangle> hitTriangle(const Hit& h) const;
 
     std::vector<uint8_t> uvNeeded_;  // Material::needsUv() of each material, from finalize()
+    std::vector<float> convexSlack_;  // convexSlack() of each mesh, from finalize()
 };
 
 }  // namespace penumbra

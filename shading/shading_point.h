@@ -29,6 +29,10 @@ struct ShadingPoint {
     // not load through `material`.
     bool glossy = false;
     bool front = true;  // the ray arrived on the side the surface's own geometric normal faces
+    // Scene::convexMeshAt where the ray arrived from outside (front), else -1:
+    // a ray leaving here above ng cannot meet that mesh again (the
+    // accelerators' `leaving` hints).
+    int32_t convexMesh = -1;
 
     /// Whether any light can reach the viewer from here (a black or pure
     /// mirror material needs no light samples).

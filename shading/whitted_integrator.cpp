@@ -175,18 +175,24 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
         // Mirror and transmitted rays of the lanes that continue, traced together.
         ScratchArray<Ray, kMaxBatch> next;  // written before read: not initialised per bounce
         uint8_t nextLane[kMaxBatch];
+        int32_t leaving[kMaxBatch];  // the accelerator's hints: the convex mesh each ray leaves, or -1
         size_t nNext = 0;
         for (size_t i = 0; i < n; ++i) {
             PathLane& lane = lanes[i];
             // A lane whose branch ends (miss, diffuse surface, depth limit) takes its next pending ray.
-            active[i] = (active[i] && continueLane(lane, next[nNext], counts)) || resumePending(lane, next[nNext]);
+            const bool continues = active[i] && continueLane(lane, next[nNext], counts);
+            active[i] = continues || resumePending(lane, next[nNext]);
+            // continueLane's rays leave the lane's shading point, and leave
+            // a convex mesh where they run above its surface.
+            leaving[nNext] = continues && dot(next[nNext].d, lane.sp.ng) > 0.f ? lane.sp.convexMesh : -1;
             if (active[i]) nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;
         // The mirror rays of one pixel block off the same surfaces mostly run
         // together: Embree may trace them as one frustum (coherent).
         accel_.intersectBatch(std::span<const Ray>(next.data(), nNext),
-                              std::span<std::optional<Hit>>(bounce.data(), nNext), true);
+                              std::span<std::optional<Hit>>(bounce.data(), nNext), true,
+                              std::span<const int32_t>(leaving, nNext));
         // The lanes take their rays only now: copied just after continueLane wrote
         // them, field by field, a whole Ray could not be loaded from those stores
         // in flight (no store forwarding) and waited for them to reach the cache.

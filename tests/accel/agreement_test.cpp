@@ -31,10 +31,14 @@
 #include "core/scene.h"
 #include "core/transform.h"
 #include "support/both_accelerators.h"
+#include "support/test_meshes.h"
 #include "support/test_support.h"
 
 namespace penumbra {
 namespace {
+
+using test::makeIcosphere;
+using test::makeTriangleCube;
 
 // Render threads run with flush-to-zero and denormals-are-zero; so do these
 // tests (restoring the previous mode afterwards).
@@ -71,59 +75,6 @@ private:
 
 Logger quietLogger() {
     return Logger([](LogLevel, std::string_view) {});
-}
-
-// Icosahedron subdivided `levels` times, projected onto a sphere; closed,
-// counter-clockwise seen from outside, every edge shared by two triangles.
-TriangleMesh makeIcosphere(const Vec3f& center, float radius, int levels) {
-    const float g = (1.f + std::sqrt(5.f)) / 2.f;
-    std::vector<Vec3f> v = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                            {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
-    for (auto& p : v) p = normalize(p);
-    std::vector<uint32_t> f = {0, 11, 5, 0, 5,  1,  0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11,
-                               4, 11, 10, 2, 10, 7,  6, 7, 1, 8, 3, 9, 4,  3, 4,  2, 3, 2, 6, 3,
-                               6, 8,  3, 8, 9,  4,  9, 5, 2, 4, 11, 6, 2, 10, 8,  6, 7, 9, 8, 1};
-    for (int l = 0; l < levels; ++l) {
-        std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
-        auto midpoint = [&](uint32_t a, uint32_t b) {
-            auto key = std::minmax(a, b);
-            auto it = mid.find(key);
-            if (it != mid.end()) return it->second;
-            v.push_back(normalize(v[a] + v[b]));
-            return mid[key] = static_cast<uint32_t>(v.size() - 1);
-        };
-        std::vector<uint32_t> nf;
-        for (size_t t = 0; t < f.size(); t += 3) {
-            uint32_t a = f[t], b = f[t + 1], c = f[t + 2];
-            uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-            nf.insert(nf.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
-        }
-        f = std::move(nf);
-    }
-    TriangleMesh m;
-    m.name = "icosphere";
-    for (const auto& p : v) m.positions.push_back(center + radius * p);
-    // Orient every face outwards (the table above is not trusted blindly).
-    for (size_t t = 0; t < f.size(); t += 3) {
-        const Vec3f &a = v[f[t]], &b = v[f[t + 1]], &c = v[f[t + 2]];
-        if (dot(cross(b - a, c - a), a + b + c) < 0.f) std::swap(f[t + 1], f[t + 2]);
-    }
-    m.indices = std::move(f);
-    return m;
-}
-
-// Axis-aligned cube [lo, hi] as 12 triangles (each face split along a diagonal).
-TriangleMesh makeTriangleCube(const Vec3f& lo, const Vec3f& hi) {
-    TriangleMesh m;
-    m.name = "cube";
-    for (int i = 0; i < 8; ++i) m.positions.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
-    m.indices = {0, 2, 3, 0, 3, 1,  // -z
-                 4, 5, 7, 4, 7, 6,  // +z
-                 0, 4, 6, 0, 6, 2,  // -x
-                 1, 3, 7, 1, 7, 5,  // +x
-                 0, 1, 5, 0, 5, 4,  // -y
-                 2, 6, 7, 2, 7, 3};  // +y
-    return m;
 }
 
 // A bumpy terrain grid of n x n cells (2 n^2 triangles) over [-10, 10]^2.
@@ -903,6 +854,112 @@ TEST_P(EachAcceleratorBatch, BatchedQueriesMatchSingleRays) {
         EXPECT_GT(occludedCount, shadow.size() / 10);
         std::cout << "[ measured ] " << accel->name() << " batch vs single: " << same << "/" << rays.size()
                   << " closest hits, " << sameOcc << "/" << shadow.size() << " occlusion answers identical\n";
+    }
+}
+
+// Rays leaving a convex mesh, with the hints that say so (Accelerator::
+// intersectPrimBatch's `leaving`): mirror-like rays above the surface, some
+// within a thousandth of a degree of grazing it, and shadow rays to points on
+// the other shapes, from hits on a convex icosphere beside a cube of triangles,
+// a lane-tested sphere and a floor plane. In a scene of few shapes, where
+// Embree skips what a hinted packet cannot meet, and with more shapes, the
+// answers are the naive loop's, and the same as without the hints (the same
+// primitive; t within a few ulps, as between packets and single rays). A hint
+// is taken at its word: a ray aimed at the icosphere that claims to leave it
+// does not find it, which shows that the queries skip it.
+TEST(AcceleratorAgreementTest, RaysLeavingAConvexMeshWithHintsAnswerAsWithout) {
+    FlushDenormalsScope ftz;
+    for (const bool manyShapes : {false, true}) {
+        Scene scene;
+        scene.meshes.push_back(makeIcosphere({0.f, 1.5f, 0.f}, 1.5f, 2));
+        scene.meshes.push_back(makeTriangleCube({2.f, 0.f, -1.f}, {3.f, 2.5f, 1.f}));
+        scene.spheres.push_back(Sphere{Vec3f{-2.5f, 1.f, 0.5f}, 1.f, 0});
+        scene.planes.push_back(Plane{Vec3f{0.f, 0.f, 0.f}, Vec3f{0.f, 1.f, 0.f}, 0});
+        if (manyShapes)
+            for (int i = 0; i < 8; ++i)
+                scene.spheres.push_back(Sphere{Vec3f{-6.f + 1.5f * float(i), 4.5f, -3.f}, 0.5f, 0});
+        scene.finalize(quietLogger());
+        const auto embree = makeAccelerator(AcceleratorKind::Embree, scene);
+        const auto naive = makeAccelerator(AcceleratorKind::Naive, scene);
+        ASSERT_EQ(embree->shapeBounds().available(), !manyShapes);
+        Rng rng(41);
+        std::vector<Ray> rays, shadow, aimed;
+        std::vector<int32_t> hints;  // the mirror-like rays' hints, set as the Whitted integrator sets them
+        for (int k = 0; k < 600; ++k) {
+            // A hit on the icosphere, as a camera ray finds it.
+            const Vec3f target = Vec3f{0.f, 1.5f, 0.f} + 1.4f * rng.direction();
+            const Vec3f eye = target + rng.range(2.f, 8.f) * normalize(target - Vec3f{0.f, 1.5f, 0.f} + rng.direction());
+            const std::optional<Hit> h = naive->intersect(Ray{eye, normalize(target - eye), 0.f, kInfinity});
+            if (!h || h->ref.kind != ShapeKind::Mesh || h->ref.object != 0) continue;
+            ASSERT_EQ(scene.convexMeshAt(h->ref, h->p), 0);
+            // From above, straight down through the icosphere, clear of the cube.
+            const Vec3f top{rng.range(-0.5f, 0.5f), 10.f, rng.range(-0.5f, 0.5f)};
+            aimed.push_back(Ray{top, normalize(Vec3f{rng.range(-0.5f, 0.5f), 2.5f, rng.range(-0.5f, 0.5f)} - top)});
+            Vec3f w = rng.direction();
+            if (dot(w, h->ng) < 0.f) w = -w;
+            if (k % 4 == 0) {  // grazing: within 1e-5 rad of the triangle's plane
+                const Vec3f along = normalize(w - dot(w, h->ng) * h->ng);
+                w = normalize(along + rng.range(1e-7f, 1e-5f) * h->ng);
+            }
+            rays.push_back(spawnRay(h->p, h->ng, w));
+            hints.push_back(dot(w, h->ng) > 0.f ? 0 : -1);  // rounding can leave a grazing ray below
+            const Vec3f onOther[] = {Vec3f{rng.range(2.f, 3.f), rng.range(0.f, 2.5f), rng.range(-1.f, 1.f)},
+                                     scene.spheres[0].center + scene.spheres[0].radius * rng.direction(),
+                                     Vec3f{rng.range(-5.f, 5.f), 0.f, rng.range(-5.f, 5.f)},
+                                     Vec3f{rng.range(-6.f, 6.f), 6.f, rng.range(-6.f, 6.f)}};
+            for (const Vec3f& q : onOther)
+                if (dot(q - h->p, h->ng) > 0.f) shadow.push_back(spawnRayTo(h->p, h->ng, q));
+        }
+        ASSERT_GT(rays.size(), 300u);
+        const std::vector<int32_t> leaving(std::max(shadow.size(), aimed.size()), 0);
+        size_t others = 0;
+        for (const bool coherent : {false, true}) {
+            std::vector<std::optional<Hit>> hinted(rays.size()), plain(rays.size());
+            embree->intersectBatch(rays, hinted, coherent, hints);
+            embree->intersectBatch(rays, plain, coherent);
+            for (size_t i = 0; i < rays.size(); ++i) {
+                const std::optional<Hit> ref = naive->intersect(rays[i]);
+                ASSERT_EQ(hinted[i].has_value(), ref.has_value()) << "ray " << i << " many " << manyShapes;
+                ASSERT_EQ(plain[i].has_value(), ref.has_value()) << "ray " << i << " many " << manyShapes;
+                if (!ref) continue;
+                if (hints[i] == 0) EXPECT_FALSE(ref->ref.kind == ShapeKind::Mesh && ref->ref.object == 0) << "ray " << i;
+                ASSERT_EQ(hinted[i]->ref, ref->ref) << "ray " << i;
+                ASSERT_EQ(plain[i]->ref, ref->ref) << "ray " << i;
+                EXPECT_NEAR(hinted[i]->t, ref->t, 1e-5f * ref->t) << "ray " << i;
+                EXPECT_EQ(hinted[i]->t, plain[i]->t) << "ray " << i;
+                others += 1;
+            }
+        }
+        EXPECT_GT(others, rays.size() / 5);  // the hints do not hide the other shapes
+        size_t blocked = 0;
+        for (size_t b = 0; b < shadow.size(); b += 16) {
+            RayLanes lanes;
+            const int n = int(std::min<size_t>(16, shadow.size() - b));
+            for (int l = 0; l < 16; ++l) {
+                lanes.active[l] = l < n;
+                if (l < n) lanes.set(l, shadow[b + size_t(l)]);
+            }
+            uint8_t hinted[16], plain[16];
+            embree->occludedLanes(lanes, hinted, leaving.data());
+            embree->occludedLanes(lanes, plain);
+            for (int l = 0; l < n; ++l) {
+                const bool ref = naive->occluded(shadow[b + size_t(l)]);
+                ASSERT_EQ(hinted[l] != 0, ref) << "shadow ray " << b + size_t(l) << " many " << manyShapes;
+                ASSERT_EQ(plain[l] != 0, ref) << "shadow ray " << b + size_t(l) << " many " << manyShapes;
+                blocked += ref;
+            }
+        }
+        EXPECT_GT(blocked, shadow.size() / 10);
+        EXPECT_LT(blocked, shadow.size() * 9 / 10);
+        if (manyShapes) continue;
+        // A false hint: rays from outside, straight at the icosphere, that meet no other mesh.
+        std::vector<std::optional<Hit>> claimed(aimed.size());
+        embree->intersectBatch(aimed, claimed, true, std::span(leaving.data(), aimed.size()));
+        for (size_t i = 0; i < aimed.size(); ++i) {
+            const std::optional<Hit> truth = naive->intersect(aimed[i]);
+            ASSERT_TRUE(truth && truth->ref.kind == ShapeKind::Mesh && truth->ref.object == 0) << "ray " << i;
+            ASSERT_TRUE(claimed[i] && claimed[i]->ref.kind == ShapeKind::Plane) << "ray " << i << ": the hint was not used";
+        }
     }
 }
 

@@ -66,7 +66,7 @@ public:
     ///
     /// leaving (empty, or one per ray): the index in Scene::meshes of the
     /// convex mesh ray i leaves from its outer side and away from it
-    /// (Scene::convexMeshAt, and the ray's direction above the surface), or
+    /// (Scene::convexMeshOf, and the ray's direction above the surface), or
     /// -1. Such a ray cannot meet that mesh again, so a query may leave the
     /// mesh out for it: in a scene of few shapes a packet whose rays all
     /// leave what Embree holds skips Embree's call. A hint: the answers are
@@ -145,6 +145,11 @@ public:
     /// accelerator, not per render pass: a mesh's box is a pass over its triangles.
     const ShapeBounds& shapeBounds() const { return shapeBounds_; }
 
+    /// Whether the queries use `leaving` hints (intersectPrimBatch): Embree's,
+    /// in a scene of few shapes with a convex mesh. Elsewhere a caller need
+    /// not make them.
+    bool takesLeavingHints() const { return takesLeavingHints_; }
+
     /// The alpha cutouts every query applies (accel/alpha_test.h).
     const AlphaTest& alphaTest() const { return alpha_; }
 
@@ -169,6 +174,7 @@ protected:
     const Scene& scene_;
     std::shared_ptr<const TextureCache> textures_;
     AlphaTest alpha_;
+    bool takesLeavingHints_ = false;  // set by an accelerator that uses them
 
 private:
     ShapeBounds shapeBounds_;

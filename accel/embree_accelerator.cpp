@@ -50,12 +50,16 @@ public:
         : Accelerator(scene, std::move(textures)),
           quality_(quality),
           laneShapes_(scene, shapeBounds().available()),
-          bvh_(scene, quality, alpha_, laneShapes_.holdsSpheresAndBoxes()) {}
+          bvh_(scene, quality, alpha_, laneShapes_.holdsSpheresAndBoxes()) {
+        takesLeavingHints_ = usesLeavingHints(scene);
+    }
     EmbreeAccelerator(const EmbreeAccelerator& base, const Scene& scene, std::shared_ptr<const void> buffers)
         : Accelerator(scene, base.textures_),
           quality_(base.quality_),
           laneShapes_(scene, base.laneShapes_.holdsSpheresAndBoxes()),
-          bvh_(base.bvh_, scene, std::move(buffers)) {}
+          bvh_(base.bvh_, scene, std::move(buffers)) {
+        takesLeavingHints_ = usesLeavingHints(scene);
+    }
 
     std::unique_ptr<Accelerator> edited(const Scene& scene, std::shared_ptr<const void> buffers) const override {
         // The shared geometries carry the base's filters: edited materials
@@ -92,17 +96,17 @@ public:
     }
 
     // The virtual entry points hand over to non-virtual bodies compiled per ISA (core/lane_clones.h).
-    void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out,
-                            bool coherent, std::span<const int32_t> leaving) const override {
-        intersectPackets(rays, out, coherent, leaving);
+    void intersectPrimBatch(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out, bool coherent,
+                            std::span<const int32_t> leaving) const override {
+        intersectPackets(rays, out, coherent, leaving.empty() ? nullptr : leaving.data());
     }
 
     PENUMBRA_LANE_CLONES void intersectPackets(std::span<const Ray> rays, std::span<std::optional<PrimIntersection>> out,
-                                               bool coherent, std::span<const int32_t> leaving) const {
+                                               bool coherent, const int32_t* leaving) const {
         // Packets as wide as the remaining rays need: 16, 8 or 4 lanes.
         for (size_t i = 0; i < rays.size();) {
             const size_t left = rays.size() - i;
-            const int32_t* leave = leaving.empty() ? nullptr : leaving.data() + i;
+            const int32_t* leave = leaving ? leaving + i : nullptr;
             if (left == 1) {
                 out[i] = intersectPrim(rays[i]);
                 i += 1;
@@ -430,34 +434,22 @@ private:
     // leaves. Returns whether any lane is left.
     template <int W, class PacketRay>
     [[gnu::always_inline]] bool keepLanesMeetingShapes(const PacketRay& p, int* valid, const int32_t* leaving) const {
-        alignas(64) int32_t leave[W];
-        for (int l = 0; l < W; ++l) leave[l] = leaving ? leaving[l] : -1;
         alignas(64) int meets[W];
-        for (int l = 0; l < W; ++l) meets[l] = 0;
-        // The reciprocals once a box has lanes to test: none where every
-        // lane leaves the one mesh Embree holds.
         alignas(64) float ix[W], iy[W], iz[W];
-        bool inverted = false;
+        for (int l = 0; l < W; ++l) {
+            meets[l] = 0;
+            ix[l] = 1.f / (p.dir_x[l] != 0.f ? p.dir_x[l] : 1e-30f);
+            iy[l] = 1.f / (p.dir_y[l] != 0.f ? p.dir_y[l] : 1e-30f);
+            iz[l] = 1.f / (p.dir_z[l] != 0.f ? p.dir_z[l] : 1e-30f);
+        }
+        static constexpr int32_t kLeavingNone[16] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
+        static_assert(W <= 16);
+        const int32_t* leave = leaving ? leaving : kLeavingNone;
         const bool spheresAndBoxesHere = laneShapes_.holdsSpheresAndBoxes();
         for (const ShapeBounds::PaddedBox& b : shapeBounds().boxes()) {
             if (spheresAndBoxesHere && b.ref.kind == ShapeKind::Box) continue;
-            const int32_t mesh = b.ref.kind == ShapeKind::Mesh ? int32_t(b.ref.object) : -2;
-            alignas(64) int test[W];
-            int anyTest = 0;
-            for (int l = 0; l < W; ++l) {
-                test[l] = valid[l] & int(leave[l] != mesh);
-                anyTest |= test[l];
-            }
-            if (!anyTest) continue;
-            if (!inverted) {
-                for (int l = 0; l < W; ++l) {
-                    ix[l] = 1.f / (p.dir_x[l] != 0.f ? p.dir_x[l] : 1e-30f);
-                    iy[l] = 1.f / (p.dir_y[l] != 0.f ? p.dir_y[l] : 1e-30f);
-                    iz[l] = 1.f / (p.dir_z[l] != 0.f ? p.dir_z[l] : 1e-30f);
-                }
-                inverted = true;
-            }
             const Vec3f lo = b.box.lo, hi = b.box.hi;
+            const int32_t mesh = b.ref.kind == ShapeKind::Mesh ? int32_t(b.ref.object) : -2;
             for (int l = 0; l < W; ++l) {
                 const float ax = (lo.x - p.org_x[l]) * ix[l], bx = (hi.x - p.org_x[l]) * ix[l];
                 const float ay = (lo.y - p.org_y[l]) * iy[l], by = (hi.y - p.org_y[l]) * iy[l];
@@ -466,8 +458,8 @@ private:
                     std::max(std::max(p.tnear[l], std::min(ax, bx)), std::max(std::min(ay, by), std::min(az, bz)));
                 const float t1 =
                     std::min(std::min(p.tfar[l], std::max(ax, bx)), std::min(std::max(ay, by), std::max(az, bz)));
-                // A few ulps of t: the slab test's rounding.
-                meets[l] |= int(!(t0 > t1 + 1e-6f * std::fabs(t1))) & test[l];
+                // A few ulps of t: the slab test's rounding. A lane does not meet the mesh it leaves.
+                meets[l] |= int(!(t0 > t1 + 1e-6f * std::fabs(t1))) & int(leave[l] != mesh);
             }
         }
         for (const Sphere& s : spheresAndBoxesHere ? std::span<const Sphere>() : std::span(shapeBounds().spheres())) {
@@ -488,6 +480,11 @@ private:
             any |= valid[l];
         }
         return any != 0;
+    }
+
+    // The hints are used where the shapes' bounds are kept (keepLanesMeetingShapes) and some mesh is convex.
+    bool usesLeavingHints(const Scene& scene) const {
+        return scene.convexMeshes() != nullptr && shapeBounds().available();
     }
 
     BuildQuality quality_;

@@ -198,8 +198,16 @@ SceneFixups Scene::finalize(const Logger& log) {
                  " instance(s) with an unknown or empty prototype or a non-finite or singular transform");
     fix.droppedInstances += beyond.instances;
     if (badIds) log.warn(std::to_string(badIds) + " material reference(s) out of range; using material 0");
-    convexSlack_.clear();
-    for (const TriangleMesh& m : meshes) convexSlack_.push_back(convexSlack(m));
+    convexMeshes_.clear();
+    for (size_t i = 0; i < meshes.size(); ++i) {
+        // The smallest ray offset at any point of the mesh's box: rayOffsetScale
+        // of its point nearest the origin by the largest component.
+        const Bounds3f b = penumbra::bounds(meshes[i]);
+        Vec3f nearest;
+        for (int a = 0; a < 3; ++a) nearest[a] = std::max(0.f, std::max(b.lo[a], -b.hi[a]));
+        const bool convex = convexSlack(meshes[i]) < 0.5f * rayOffsetScale(nearest);
+        convexMeshes_.push_back(convex ? int32_t(i) : -1);
+    }
     return fix;
 }
 

@@ -149,15 +149,21 @@ public:
     /// serve another), or null.
     const TextureSource* findTexture(const std::string& name) const;
 
-    /// Where a Mesh hit at p lies on a convex mesh whose triangles face
-    /// outwards (core/mesh_convexity.h), with every vertex within half the ray
-    /// offset at p (rayOffsetScale) of the triangles' planes: that mesh's
-    /// index. A ray leaving p above the hit's front side then cannot meet the
-    /// mesh again (the accelerators' `leaving` hints). -1 for any other hit,
-    /// and before finalize().
-    int32_t convexMeshAt(const PrimRef& ref, const Vec3f& p) const {
-        if (ref.kind != ShapeKind::Mesh || ref.object >= convexSlack_.size()) return -1;
-        return convexSlack_[ref.object] < 0.5f * rayOffsetScale(p) ? int32_t(ref.object) : -1;
+    /// Where a Mesh hit lies on a convex mesh whose triangles face outwards
+    /// (core/mesh_convexity.h), with every vertex within half the ray offset
+    /// (rayOffsetScale) at any of its points of the triangles' planes: that
+    /// mesh's index. A ray leaving the hit above its front side then cannot
+    /// meet the mesh again (the accelerators' `leaving` hints). -1 for any
+    /// other hit, and before finalize().
+    int32_t convexMeshOf(const PrimRef& ref) const {
+        return ref.kind == ShapeKind::Mesh && ref.object < convexMeshes_.size() ? convexMeshes_[ref.object] : -1;
+    }
+    /// convexMeshOf of each mesh, by index; null where no mesh is convex
+    /// (then no hit needs asking).
+    const int32_t* convexMeshes() const {
+        for (int32_t c : convexMeshes_)
+            if (c >= 0) return convexMeshes_.data();
+        return nullptr;
     }
 
     /// Triangles as rendered: each instance counts its prototype's triangles.
@@ -182,7 +188,7 @@ private:
     std::optional<HitTriangle> hitTriangle(const Hit& h) const;
 
     std::vector<uint8_t> uvNeeded_;  // Material::needsUv() of each material, from finalize()
-    std::vector<float> convexSlack_;  // convexSlack() of each mesh, from finalize()
+    std::vector<int32_t> convexMeshes_;  // each mesh's convexMeshOf, from finalize()
 };
 
 }  // namespace penumbra

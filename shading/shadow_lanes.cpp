@@ -104,15 +104,19 @@ PENUMBRA_LANE_CLONES uint32_t ShadowLanes::trace(const LightLanes& s, int n, flo
     }
     alignas(64) uint8_t blocked[kWidth] = {};
     if (!clear) {
-        // The accelerator's hints: a ray that runs above the surface of a
-        // convex mesh it leaves (spawnRay's rule: its origin lies outside).
+        // The accelerator's hints, where it takes them: a ray that runs above
+        // the surface of a convex mesh leaves it (spawnRay's rule: its origin
+        // lies outside).
         alignas(64) int32_t leaving[kWidth];
-        std::fill_n(leaving, kWidth, -1);
-        for (int c = 0; c < n; ++c) {
-            const bool above = rays.dx[c] * at.nx[c] + rays.dy[c] * at.ny[c] + rays.dz[c] * at.nz[c] > 0.f;
-            leaving[c] = above ? convexMesh_[c] : -1;
+        const bool hinted = accel.takesLeavingHints();
+        if (hinted) {
+            std::fill_n(leaving, kWidth, -1);
+            for (int c = 0; c < n; ++c) {
+                const bool above = rays.dx[c] * at.nx[c] + rays.dy[c] * at.ny[c] + rays.dz[c] * at.nz[c] > 0.f;
+                leaving[c] = above ? sp_[c]->convexMesh : -1;
+            }
         }
-        accel.occludedLanes(rays, blocked, leaving);
+        accel.occludedLanes(rays, blocked, hinted ? leaving : nullptr);
     }
     uint32_t traced = 0;
     for (int c = 0; c < n; ++c) traced += uint32_t(rays.active[c]);

@@ -83,7 +83,6 @@ private:
     alignas(64) float nsx_[kWidth], nsy_[kWidth], nsz_[kWidth];
     alignas(64) float kdr_[kWidth], kdg_[kWidth], kdb_[kWidth];
     alignas(64) int32_t scalar_[kWidth];  // 1: glossy, weighed by shadowSampleWeight
-    alignas(64) int32_t convexMesh_[kWidth];  // ShadingPoint::convexMesh: trace's hints to the accelerator
     alignas(64) float misCount_[kWidth];
     const ShadingPoint* sp_[kWidth];
 };
@@ -98,7 +97,6 @@ private:
     // Only the Lambertian lanes' weights come from the arrays (the others'
     // from shadowSampleWeight), so no specular term is gathered.
     scalar_[c] = sp.glossy;
-    convexMesh_[c] = sp.convexMesh;
     sp_[c] = &sp;
     misCount_[c] = misCount;
 }

@@ -24,7 +24,8 @@ public:
     /// leave their specular lobe to a mirror bounce (ShadingPoint::mirrorSpecular);
     /// negative: none do.
     SurfaceShading(const Scene& scene, const TextureCache* textures, float pixelSpread, float mirrorRoughness = -1.f)
-        : scene_(scene), textures_(textures), pixelSpread_(pixelSpread), mirrorRoughness_(mirrorRoughness) {}
+        : scene_(scene), textures_(textures), pixelSpread_(pixelSpread), mirrorRoughness_(mirrorRoughness),
+          convexMeshes_(scene.convexMeshes()) {}
 
     /// Writes into sp the shading point of a hit reached along `ray` after
     /// pathLength, in place: a lane's shading point is read right after.
@@ -45,6 +46,7 @@ private:
     const TextureCache* textures_;
     float pixelSpread_;
     float mirrorRoughness_;
+    const int32_t* convexMeshes_;  // Scene::convexMeshes: null where no mesh is convex
 };
 
 }  // namespace penumbra

@@ -188,11 +188,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             if (active[i]) nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;
-        // The mirror rays of one pixel block off the same surfaces mostly run
-        // together: Embree may trace them as one frustum (coherent).
-        accel_.intersectBatch(std::span<const Ray>(next.data(), nNext),
-                              std::span<std::optional<Hit>>(bounce.data(), nNext), true,
-                              std::span<const int32_t>(leaving, nNext));
+        traceNext(next.data(), nNext, leaving, bounce.data());
         // The lanes take their rays only now: copied just after continueLane wrote
         // them, field by field, a whole Ray could not be loaded from those stores
         // in flight (no store forwarding) and waited for them to reach the cache.
@@ -203,6 +199,13 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
         }
     }
     writeRadiance(std::span<const PathLane>(lanes.data(), n), radiance, counts);
+}
+
+[[gnu::noinline]] void WhittedIntegrator::traceNext(const Ray* rays, size_t n, const int32_t* leaving,
+                                                    std::optional<Hit>* hits) const {
+    // The mirror rays of one pixel block off the same surfaces mostly run
+    // together: Embree may trace them as one frustum (coherent).
+    accel_.intersectBatch(std::span(rays, n), std::span(hits, n), true, std::span(leaving, n));
 }
 
 void WhittedIntegrator::addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const {

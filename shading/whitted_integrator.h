@@ -59,6 +59,11 @@ private:
     /// Adds each lane's direct light (times its throughput) to its radiance:
     /// the lanes that reflect light, as the points of one estimate.
     void addDirectLight(std::span<PathLane> lanes, std::span<const uint8_t> active, int depth, RayCounts& counts) const;
+    /// The closest hits of a bounce's rays (intersectBatch), the convex meshes
+    /// they leave hinted. Out of line: inlined, the batch query (eight
+    /// arguments, two on the stack) made GCC keep a frame pointer in
+    /// shadeBatch, a register fewer for its loops.
+    void traceNext(const Ray* rays, size_t n, const int32_t* leaving, std::optional<Hit>* hits) const;
     /// addDirectLight for lanes at different bounce depths (dielectrics split lanes).
     void addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const;
     /// Writes the lane's next ray after its shading point into `next` (mirror, or a dielectric's

@@ -891,7 +891,7 @@ TEST(AcceleratorAgreementTest, RaysLeavingAConvexMeshWithHintsAnswerAsWithout) {
             const Vec3f eye = target + rng.range(2.f, 8.f) * normalize(target - Vec3f{0.f, 1.5f, 0.f} + rng.direction());
             const std::optional<Hit> h = naive->intersect(Ray{eye, normalize(target - eye), 0.f, kInfinity});
             if (!h || h->ref.kind != ShapeKind::Mesh || h->ref.object != 0) continue;
-            ASSERT_EQ(scene.convexMeshAt(h->ref, h->p), 0);
+            ASSERT_EQ(scene.convexMeshOf(h->ref), 0);
             // From above, straight down through the icosphere, clear of the cube.
             const Vec3f top{rng.range(-0.5f, 0.5f), 10.f, rng.range(-0.5f, 0.5f)};
             aimed.push_back(Ray{top, normalize(Vec3f{rng.range(-0.5f, 0.5f), 2.5f, rng.range(-0.5f, 0.5f)} - top)});
@@ -922,7 +922,9 @@ TEST(AcceleratorAgreementTest, RaysLeavingAConvexMeshWithHintsAnswerAsWithout) {
                 ASSERT_EQ(hinted[i].has_value(), ref.has_value()) << "ray " << i << " many " << manyShapes;
                 ASSERT_EQ(plain[i].has_value(), ref.has_value()) << "ray " << i << " many " << manyShapes;
                 if (!ref) continue;
-                if (hints[i] == 0) EXPECT_FALSE(ref->ref.kind == ShapeKind::Mesh && ref->ref.object == 0) << "ray " << i;
+                if (hints[i] == 0) {
+                    EXPECT_FALSE(ref->ref.kind == ShapeKind::Mesh && ref->ref.object == 0) << "ray " << i;
+                }
                 ASSERT_EQ(hinted[i]->ref, ref->ref) << "ray " << i;
                 ASSERT_EQ(plain[i]->ref, ref->ref) << "ray " << i;
                 EXPECT_NEAR(hinted[i]->t, ref->t, 1e-5f * ref->t) << "ray " << i;

@@ -1,4 +1,4 @@
-// convexSlack and Scene::convexMeshAt: which meshes a ray leaving their
+// convexSlack and Scene::convexMeshOf: which meshes a ray leaving their
 // surface cannot meet again (the accelerators' `leaving` hints).
 #include <gtest/gtest.h>
 
@@ -86,18 +86,32 @@ TEST(MeshConvexity, SceneNamesTheConvexMeshOfAMeshHit) {
     dented.positions[7] = Vec3f{3.8f, 0.8f, 0.8f};
     scene.meshes.push_back(dented);
     scene.meshes.push_back(makeCylinder(1.f, 2.f, 64));
+    // A corner pushed out by 1e-3 on a cube of side 2,000: the two triangles
+    // that do not hold it, of the faces it lies on, have it about 1e-3 in
+    // front, above half the ray offset near the origin (7.6e-6) and below
+    // half the one at 10^4 (0.076), where the same cube stands next.
+    TriangleMesh bulging = makeTriangleCube({-1e3f, -1e3f, -1e3f}, {1e3f, 1e3f, 1e3f});
+    bulging.positions[1] = Vec3f{1e3f + 1e-3f, -1e3f - 1e-3f, -1e3f - 1e-3f};
+    scene.meshes.push_back(bulging);
+    for (size_t i = 0; i < bulging.positions.size(); ++i) bulging.positions[i] += Vec3f{1.1e4f, 0.f, 0.f};
+    scene.meshes.push_back(bulging);
     scene.spheres.push_back(Sphere{Vec3f{0.f, 5.f, 0.f}, 1.f, 0});
-    const Vec3f p{1.f, 0.2f, 0.3f};
-    EXPECT_EQ(scene.convexMeshAt(PrimRef{ShapeKind::Mesh, 0, 3, 0}, p), -1) << "before finalize()";
+    EXPECT_EQ(scene.convexMeshOf(PrimRef{ShapeKind::Mesh, 0, 3, 0}), -1) << "before finalize()";
     scene.finalize(quiet());
-    EXPECT_EQ(scene.convexMeshAt(PrimRef{ShapeKind::Mesh, 0, 3, 0}, p), 0);
-    EXPECT_EQ(scene.convexMeshAt(PrimRef{ShapeKind::Mesh, 1, 3, 0}, p), -1);
-    EXPECT_EQ(scene.convexMeshAt(PrimRef{ShapeKind::Mesh, 2, 7, 0}, Vec3f{1.f, 1.f, 0.f}), 2);
-    EXPECT_EQ(scene.convexMeshAt(PrimRef{ShapeKind::Sphere, 0, 0, 0}, Vec3f{0.f, 4.f, 0.f}), -1);
-    EXPECT_EQ(scene.convexMeshAt(PrimRef{ShapeKind::Mesh, 7, 0, 0}, p), -1) << "no such mesh";
+    ASSERT_EQ(scene.meshes.size(), 5u);
+    EXPECT_EQ(scene.convexMeshOf(PrimRef{ShapeKind::Mesh, 0, 3, 0}), 0);
+    EXPECT_EQ(scene.convexMeshOf(PrimRef{ShapeKind::Mesh, 1, 3, 0}), -1);
+    EXPECT_EQ(scene.convexMeshOf(PrimRef{ShapeKind::Mesh, 2, 7, 0}), 2);
+    EXPECT_GT(convexSlack(scene.meshes[3]), 5e-4f);
+    EXPECT_LT(convexSlack(scene.meshes[3]), 2e-3f);
+    EXPECT_EQ(scene.convexMeshOf(PrimRef{ShapeKind::Mesh, 3, 0, 0}), -1);
+    EXPECT_EQ(scene.convexMeshOf(PrimRef{ShapeKind::Mesh, 4, 0, 0}), 4);
+    EXPECT_EQ(scene.convexMeshOf(PrimRef{ShapeKind::Sphere, 0, 0, 0}), -1);
+    EXPECT_EQ(scene.convexMeshOf(PrimRef{ShapeKind::Instance, 0, 0, 0}), -1);
+    EXPECT_EQ(scene.convexMeshOf(PrimRef{ShapeKind::Mesh, 7, 0, 0}), -1) << "no such mesh";
     // A copy (as a scene edit makes) keeps the answers.
     const Scene copy = scene;
-    EXPECT_EQ(copy.convexMeshAt(PrimRef{ShapeKind::Mesh, 0, 3, 0}, p), 0);
+    EXPECT_EQ(copy.convexMeshOf(PrimRef{ShapeKind::Mesh, 0, 3, 0}), 0);
 }
 
 }  // namespace

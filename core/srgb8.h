@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 
@@ -12,38 +13,39 @@ namespace penumbra {
 uint8_t srgb8Code(float v);
 
 /// srgb8Code by 255 thresholds found once per image: where a code starts is
-/// searched in 8 branch-free comparisons instead of a pow per channel, which
-/// made encoding an 8-bit image a visible part of a short render. The codes
-/// are srgb8Code's bit for bit: each threshold is the smallest float with the
-/// next code, found by bisection over the floats with srgb8Code itself, which
-/// is non-decreasing (checked over every float in [0, 1]). Negative values
-/// and NaN give 0, values above 1 give 255.
+/// looked up instead of a pow per channel, which made encoding an 8-bit image
+/// a visible part of a short render. The codes are srgb8Code's bit for bit:
+/// each threshold is the smallest float with the next code, found by
+/// bisection over the floats with srgb8Code itself, which is non-decreasing
+/// (checked over every float in [0, 1]). Negative values and NaN give 0,
+/// values above 1 give 255.
 class Srgb8 {
 public:
     Srgb8();
-    uint8_t operator()(float v) const { return uint8_t(search(thresholds_.data(), v)); }
+    uint8_t operator()(float v) const { return uint8_t(search(firstCodes_.data(), thresholds_.data(), v)); }
     /// codes[i] = (*this)(values[i]) for i < n, as one loop over the values:
-    /// it vectorises, the thresholds gathered 8 or 16 values at a time.
+    /// it vectorises, the table and the thresholds gathered 8 or 16 values at a time.
     void codes(const float* values, size_t n, uint8_t* codes) const;
     /// The smallest float whose code is `code` (1..255).
     float threshold(unsigned code) const { return thresholds_[code]; }
 
 private:
-    // Where v falls among the thresholds t: eight halvings without branches,
-    // written out (as a loop of steps they kept codes() from vectorising).
-    [[gnu::always_inline]] static int32_t search(const float* t, float v) {
-        int32_t code = t[128] <= v ? 128 : 0;
-        code += t[code + 64] <= v ? 64 : 0;
-        code += t[code + 32] <= v ? 32 : 0;
-        code += t[code + 16] <= v ? 16 : 0;
-        code += t[code + 8] <= v ? 8 : 0;
-        code += t[code + 4] <= v ? 4 : 0;
-        code += t[code + 2] <= v ? 2 : 0;
-        code += t[code + 1] <= v ? 1 : 0;
-        return code;
+    // The floats of [0, 1] in buckets of 2^16 by their bit patterns: a bucket
+    // spans under 0.8% of its values, and consecutive thresholds lie at least
+    // 0.9% apart (near 1, where v grows as code^2.4), so at most one code
+    // starts inside a bucket. A value's code is its bucket's first code, plus
+    // one past that threshold: two loads where a binary search took eight.
+    static constexpr int kBucketShift = 16;
+    static constexpr size_t kBuckets = (0x3F800000u >> kBucketShift) + 1;  // through the bucket of 1.0f
+
+    [[gnu::always_inline]] static int32_t search(const int32_t* first, const float* t, float v) {
+        const float c = v > 0.f ? (v < 1.f ? v : 1.f) : 0.f;  // NaN fails the first test: 0
+        const int32_t code = first[std::bit_cast<uint32_t>(c) >> kBucketShift];
+        return code + int32_t(t[code + 1] <= c);
     }
 
-    std::array<float, 256> thresholds_{};  // [0] is never read: the search starts above it
+    std::array<float, 257> thresholds_{};  // [0] 0 and [256] infinity: never met
+    std::array<int32_t, kBuckets> firstCodes_{};
 };
 
 }  // namespace penumbra

@@ -26,6 +26,7 @@ Srgb8::Srgb8() {
     }
     thresholds_[256] = std::numeric_limits<float>::infinity();
     // Each bucket's first code: the thresholds at or below its smallest float.
+    firstCodes_.resize(kBuckets);
     unsigned code = 0;
     for (size_t b = 0; b < kBuckets; ++b) {
         const float smallest = std::bit_cast<float>(uint32_t(b) << kBucketShift);

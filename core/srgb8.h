@@ -5,6 +5,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace penumbra {
 
@@ -45,7 +46,8 @@ private:
     }
 
     std::array<float, 257> thresholds_{};  // [0] 0 and [256] infinity: never met
-    std::array<int32_t, kBuckets> firstCodes_{};
+    // 64 KiB, on the heap: an Srgb8 is a local of threads with small stacks (the preview's server).
+    std::vector<int32_t> firstCodes_;
 };
 
 }  // namespace penumbra

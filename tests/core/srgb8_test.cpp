@@ -78,6 +78,12 @@ TEST(Srgb8, CodesOfManyValuesAreEachValuesCode) {
     EXPECT_EQ(*std::max_element(codes.begin(), codes.end()), 255);
 }
 
+TEST(Srgb8, IsSmallEnoughForAThreadsStack) {
+    // Image writers make one as a local, also on the preview server's threads,
+    // whose stacks are small: its 64 KiB table lives on the heap.
+    EXPECT_LE(sizeof(Srgb8), 2048u);
+}
+
 TEST(Srgb8, OutOfRangeValuesClamp) {
     const Srgb8 srgb8;
     EXPECT_EQ(srgb8(-1.f), 0);

@@ -33,12 +33,17 @@ float convexSlack(const TriangleMesh& m) {
         ny /= len;
         nz /= len;
         const double offset = nx * x[a] + ny * y[a] + nz * z[a];
-        double front = 0.0;
-        for (size_t i = 0; i < nv; ++i) front = std::max(front, nx * x[i] + ny * y[i] + nz * z[i] - offset);
-        slack = std::max(slack, front);
+        // Four running maxima: one chain of dependent comparisons was most of a load's time.
+        double front[4] = {0.0, 0.0, 0.0, 0.0};
+        size_t i = 0;
+        for (; i + 4 <= nv; i += 4)
+            for (size_t k = 0; k < 4; ++k)
+                front[k] = std::max(front[k], nx * x[i + k] + ny * y[i + k] + nz * z[i + k] - offset);
+        for (; i < nv; ++i) front[0] = std::max(front[0], nx * x[i] + ny * y[i] + nz * z[i] - offset);
+        slack = std::max({slack, front[0], front[1], front[2], front[3]});
         if (slack > limit) return kInfinity;
     }
-    return static_cast<float>(slack * (1.0 + 1e-6)) ;
+    return static_cast<float>(slack * (1.0 + 1e-6));
 }
 
 }  // namespace penumbra

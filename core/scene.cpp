@@ -151,6 +151,31 @@ size_t fixMaterialReferences(Scene& s, std::vector<uint8_t>& uvNeeded) {
     return badIds;
 }
 
+// Scene::convexMeshOf of each mesh. A mesh counts as convex where its slack
+// is under half the smallest ray offset anywhere in its box (rayOffsetScale of
+// the box's point nearest the origin by the largest component). The tests take
+// triangles x vertices steps: past 2^23 of them in all, the remaining meshes
+// are not tested, so that no scene of many meshes loads much slower.
+std::vector<int32_t> convexMeshIndices(const std::vector<TriangleMesh>& meshes) {
+    std::vector<int32_t> out;
+    size_t budget = size_t(1) << 23;
+    for (size_t i = 0; i < meshes.size(); ++i) {
+        const TriangleMesh& m = meshes[i];
+        const size_t nv = m.positions.size();
+        const bool affordable = nv > 0 && m.triangleCount() <= budget / nv;
+        bool convex = false;
+        if (affordable) {
+            budget -= m.triangleCount() * nv;
+            const Bounds3f b = bounds(m);
+            Vec3f nearest;
+            for (int a = 0; a < 3; ++a) nearest[a] = std::max(0.f, std::max(b.lo[a], -b.hi[a]));
+            convex = convexSlack(m) < 0.5f * rayOffsetScale(nearest);
+        }
+        out.push_back(convex ? int32_t(i) : -1);
+    }
+    return out;
+}
+
 }  // namespace
 
 SceneFixups Scene::finalize(const Logger& log) {
@@ -198,16 +223,7 @@ SceneFixups Scene::finalize(const Logger& log) {
                  " instance(s) with an unknown or empty prototype or a non-finite or singular transform");
     fix.droppedInstances += beyond.instances;
     if (badIds) log.warn(std::to_string(badIds) + " material reference(s) out of range; using material 0");
-    convexMeshes_.clear();
-    for (size_t i = 0; i < meshes.size(); ++i) {
-        // The smallest ray offset at any point of the mesh's box: rayOffsetScale
-        // of its point nearest the origin by the largest component.
-        const Bounds3f b = penumbra::bounds(meshes[i]);
-        Vec3f nearest;
-        for (int a = 0; a < 3; ++a) nearest[a] = std::max(0.f, std::max(b.lo[a], -b.hi[a]));
-        const bool convex = convexSlack(meshes[i]) < 0.5f * rayOffsetScale(nearest);
-        convexMeshes_.push_back(convex ? int32_t(i) : -1);
-    }
+    convexMeshes_ = convexMeshIndices(meshes);
     return fix;
 }
 

@@ -81,7 +81,8 @@ PENUMBRA_LANE_CLONES void SurfaceShading::shade(const Hit& hit, const Ray& ray, 
     const bool front = dot(sp.wo, hit.ng) > 0.f;
     sp.front = front;
     sp.ng = front ? hit.ng : -hit.ng;
-    sp.convexMesh = convexMeshes_ && front && hit.ref.kind == ShapeKind::Mesh ? convexMeshes_[hit.ref.object] : -1;
+    if (convexMeshes_) [[unlikely]]
+        sp.convexMesh = front && hit.ref.kind == ShapeKind::Mesh ? convexMeshes_[hit.ref.object] : -1;
     sp.ns = front ? hit.ns : -hit.ns;
     sp.metalRoughness = false;
     sp.mirrorSpecular = false;

@@ -176,6 +176,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
         ScratchArray<Ray, kMaxBatch> next;  // written before read: not initialised per bounce
         uint8_t nextLane[kMaxBatch];
         int32_t leaving[kMaxBatch];  // the accelerator's hints: the convex mesh each ray leaves, or -1
+        const bool hinted = accel_.takesLeavingHints();
         size_t nNext = 0;
         for (size_t i = 0; i < n; ++i) {
             PathLane& lane = lanes[i];
@@ -184,7 +185,7 @@ PENUMBRA_LANE_CLONES void WhittedIntegrator::shadeBatch(std::span<const Ray> cam
             active[i] = continues || resumePending(lane, next[nNext]);
             // continueLane's rays leave the lane's shading point, and leave
             // a convex mesh where they run above its surface.
-            leaving[nNext] = continues && dot(next[nNext].d, lane.sp.ng) > 0.f ? lane.sp.convexMesh : -1;
+            leaving[nNext] = continues && hinted && dot(next[nNext].d, lane.sp.ng) > 0.f ? lane.sp.convexMesh : -1;
             if (active[i]) nextLane[nNext++] = static_cast<uint8_t>(i);
         }
         if (nNext == 0) break;

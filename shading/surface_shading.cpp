@@ -81,8 +81,6 @@ PENUMBRA_LANE_CLONES void SurfaceShading::shade(const Hit& hit, const Ray& ray, 
     const bool front = dot(sp.wo, hit.ng) > 0.f;
     sp.front = front;
     sp.ng = front ? hit.ng : -hit.ng;
-    if (convexMeshes_) [[unlikely]]
-        sp.convexMesh = front && hit.ref.kind == ShapeKind::Mesh ? convexMeshes_[hit.ref.object] : -1;
     sp.ns = front ? hit.ns : -hit.ns;
     sp.metalRoughness = false;
     sp.mirrorSpecular = false;
@@ -92,6 +90,11 @@ PENUMBRA_LANE_CLONES void SurfaceShading::shade(const Hit& hit, const Ray& ray, 
     } else {
         shadeMaps(m, hit, pathLength, sp);
     }
+    // Last: placed first, its load and test changed how the code above reads
+    // the hit (two components of its normal by one 8-byte load, across the
+    // narrower stores that had just written them).
+    if (convexMeshes_) [[unlikely]]
+        sp.convexMesh = sp.front && hit.ref.kind == ShapeKind::Mesh ? convexMeshes_[hit.ref.object] : -1;
 }
 
 Rgb SurfaceShading::emission(const Hit& hit, const ShadingPoint& sp) const {

@@ -62,7 +62,7 @@ private:
     /// The closest hits of a bounce's rays (intersectBatch), the convex meshes
     /// they leave hinted. Out of line: inlined, the batch query (eight
     /// arguments, two on the stack) made GCC keep a frame pointer in
-    /// shadeBatch, a register fewer for its loops.
+    /// shadeBatch's AVX2 clone, a register fewer for its loops.
     void traceNext(const Ray* rays, size_t n, const int32_t* leaving, std::optional<Hit>* hits) const;
     /// addDirectLight for lanes at different bounce depths (dielectrics split lanes).
     void addDirectLightByDepth(std::span<PathLane> lanes, std::span<uint8_t> active, RayCounts& counts) const;

@@ -175,7 +175,7 @@ public:
     }
 
     // The first n hints into a packet's W lanes (-1 beyond); whether any ray
-    // leaves a mesh that shapeBounds() can set aside, which only a scene of few shapes keeps.
+    // leaves a convex mesh in a scene whose queries take hints.
     template <int W>
     [[gnu::always_inline]] bool loadLeaving(const int32_t* leaving, int n, int32_t* leave) const {
         int any = 0;
@@ -183,7 +183,7 @@ public:
             leave[l] = l < n ? leaving[l] : -1;
             any |= int(leave[l] >= 0);
         }
-        return any && shapeBounds().available();
+        return any && takesLeavingHints();
     }
 
     void intersectPrimLanes(const RayLanes& rays, std::optional<PrimIntersection>* out) const override {

@@ -77,6 +77,17 @@ Logger quietLogger() {
     return Logger([](LogLevel, std::string_view) {});
 }
 
+// Rays first .. first + 15 (fewer at the end) as a packet's lanes, the rest idle.
+RayLanes lanesOf(const std::vector<Ray>& rays, size_t first) {
+    RayLanes lanes;
+    const size_t n = std::min<size_t>(RayLanes::kWidth, rays.size() - first);
+    for (size_t l = 0; l < size_t(RayLanes::kWidth); ++l) {
+        lanes.active[l] = l < n;
+        if (l < n) lanes.set(int(l), rays[first + l]);
+    }
+    return lanes;
+}
+
 // A bumpy terrain grid of n x n cells (2 n^2 triangles) over [-10, 10]^2.
 TriangleMesh makeHeightField(int n, float y0, Rng& rng) {
     TriangleMesh m;
@@ -677,12 +688,8 @@ TEST(AcceleratorAgreementTest, OcclusionPacketsAnswerAsSingleRaysAtEveryShapesBo
         }
         size_t blocked = 0;
         for (size_t b = 0; b < rays.size(); b += 16) {
-            RayLanes lanes;
+            const RayLanes lanes = lanesOf(rays, b);
             const int n = int(std::min<size_t>(16, rays.size() - b));
-            for (int l = 0; l < 16; ++l) {
-                lanes.active[l] = l < n;
-                if (l < n) lanes.set(l, rays[b + size_t(l)]);
-            }
             uint8_t out[16];
             embree->occludedLanes(lanes, out);
             for (int l = 0; l < n; ++l) {
@@ -935,12 +942,8 @@ TEST(AcceleratorAgreementTest, RaysLeavingAConvexMeshWithHintsAnswerAsWithout) {
         EXPECT_GT(others, rays.size() / 5);  // the hints do not hide the other shapes
         size_t blocked = 0;
         for (size_t b = 0; b < shadow.size(); b += 16) {
-            RayLanes lanes;
+            const RayLanes lanes = lanesOf(shadow, b);
             const int n = int(std::min<size_t>(16, shadow.size() - b));
-            for (int l = 0; l < 16; ++l) {
-                lanes.active[l] = l < n;
-                if (l < n) lanes.set(l, shadow[b + size_t(l)]);
-            }
             uint8_t hinted[16], plain[16];
             embree->occludedLanes(lanes, hinted, leaving.data());
             embree->occludedLanes(lanes, plain);

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libembree-dev libtbb-dev libopenimageio-dev openimageio-tools libtinyobjloader-dev libassimp-dev libtinygltf-dev
-  libpugixml-dev libpng-dev                 # libpng: PNG output without OpenImageIO
+  libpugixml-dev libdeflate-dev            # libdeflate: PNG output without OpenImageIO
   libgtest-dev libcli11-dev nlohmann-json3-dev
   python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio
   python3-venv python3-pip python3-setuptools python3-wheel python3-nbconvert python3-ipykernel

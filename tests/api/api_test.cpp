@@ -480,7 +480,7 @@ bool imageLibraryMapped() {
 
 TEST(ApiRender, TheImageLibraryLoadsInThisProcessOnTheFirstImageOnly) {
     if (imageLibraryMapped()) GTEST_SKIP() << "an earlier test in this process loaded it (ctest runs each test alone)";
-    // Rendering into memory and writing a PFM or a PNG (libpng's) need no image library.
+    // Rendering into memory and writing a PFM or a PNG (Penumbra's own encoders) need no image library.
     const pnb::Framebuffer image = litSphereImage(21, 2);
     const auto dir = penumbra::test::tempDir();
     pnb::ImageOptions options;

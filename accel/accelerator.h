@@ -98,7 +98,7 @@ public:
             const size_t n = std::min(kChunk, rays.size() - b);
             intersectPrimBatch(rays.subspan(b, n), std::span(thin.data(), n), coherent,
                                leaving.empty() ? leaving : leaving.subspan(b, n));
-            for (size_t i = 0; i < n; ++i) completeThin(rays[b + i], thin[i], out[b + i]);
+            completeHits(rays.data() + b, thin.data(), out.data() + b, n);
         }
     }
 
@@ -115,7 +115,7 @@ public:
         // written just before the call that reads it stalls the reads
         // (docs/accelerators.md).
         rays.rays(int(out.size()), rayOut);
-        for (size_t l = 0; l < out.size(); ++l) completeThin(rayOut[l], thin[l], out[l]);
+        completeHits(rayOut, thin.data(), out.data(), out.size());
     }
     /// intersectPrim() for each active lane's ray, nullopt for idle lanes (all 16 written).
     virtual void intersectPrimLanes(const RayLanes& rays, std::optional<PrimIntersection>* out) const {
@@ -157,6 +157,16 @@ protected:
     /// `textures` (may be null) are what the alpha cutouts read.
     Accelerator(const Scene& scene, std::shared_ptr<const TextureCache> textures)
         : scene_(scene), textures_(textures), alpha_(scene, std::move(textures)), shapeBounds_(scene) {}
+    /// completeThin for the n <= 16 hits of a batch. In a scene with meshes,
+    /// those of a few lanes on one mesh are completed over the lanes together
+    /// (completeBatch, completeTriangleHitLanes); elsewhere the batch takes no detour.
+    void completeHits(const Ray* rays, const std::optional<PrimIntersection>* thin, std::optional<Hit>* out,
+                      size_t n) const {
+        if (!scene_.meshes.empty()) return completeBatch(rays, thin, out, n);
+        for (size_t i = 0; i < n; ++i) completeThin(rays[i], thin[i], out[i]);
+    }
+    void completeBatch(const Ray* rays, const std::optional<PrimIntersection>* thin, std::optional<Hit>* out,
+                       size_t n) const;
     /// The batch forms' one rule: a thin hit completed in place (Scene::completeHit), a miss reset.
     void completeThin(const Ray& ray, const std::optional<PrimIntersection>& thin, std::optional<Hit>& out) const {
         if (thin)

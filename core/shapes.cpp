@@ -1,5 +1,9 @@
 #include "core/shapes.h"
 
+#include <cassert>
+
+#include "core/lane_clones.h"
+
 #include "core/sampling.h"
 
 namespace penumbra {
@@ -174,19 +178,11 @@ std::optional<PrimHit> intersectTriangle(const Vec3f& p0, const Vec3f& p1, const
 }
 
 void completeTriangleHit(const TriangleCorners& c, float u, float v, Hit& h) {
-    const float w = 1.f - u - v;
-    h.p = w * c.p[0] + u * c.p[1] + v * c.p[2];
-    h.ng = normalize(cross(c.p[1] - c.p[0], c.p[2] - c.p[0]));
-    h.ns = h.ng;
-    if (c.n) {
-        const Vec3f n = normalize(w * c.n[0] + u * c.n[1] + v * c.n[2]);
-        if (lengthSquared(n) > 0.f) h.ns = dot(n, h.ng) < 0.f ? -n : n;
-    }
-    if (c.uv) {
-        h.uv = {w * c.uv[0].x + u * c.uv[1].x + v * c.uv[2].x, w * c.uv[0].y + u * c.uv[1].y + v * c.uv[2].y};
-    } else {
-        h.uv = {u, v};
-    }
+    const TriangleHitValues r = triangleHitValues(c, u, v);
+    h.p = r.p;
+    h.ng = r.ng;
+    h.ns = r.ns;
+    h.uv = r.uv;
 }
 
 void completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v, Hit& h) {
@@ -203,6 +199,93 @@ void completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v, 
     c.uv = m.uvs.empty() ? nullptr : uv;
     completeTriangleHit(c, u, v, h);
     h.material = m.materialOf(tri);
+}
+
+namespace {
+
+// A batch's triangle corners as arrays over its lanes: [corner][axis][lane].
+constexpr int kHitLanes = 16;
+struct CornerLanes {
+    alignas(64) float p[3][3][kHitLanes];
+    alignas(64) float n[3][3][kHitLanes];
+    alignas(64) float uv[3][2][kHitLanes];
+};
+
+// triangleHitValues' results as arrays over the lanes.
+struct HitValueLanes {
+    alignas(64) float p[3][kHitLanes], ng[3][kHitLanes], ns[3][kHitLanes], uv[2][kHitLanes];
+};
+
+template <bool Normals, bool Uvs>
+[[gnu::always_inline]] inline void triangleHitValuesLanes(const CornerLanes& in, const float* u, const float* v,
+                                                          HitValueLanes& out) {
+    for (int l = 0; l < kHitLanes; ++l) {
+        TriangleCorners c;
+        Vec3f n[3];
+        Vec2f uv[3];
+        for (int k = 0; k < 3; ++k) {
+            c.p[k] = Vec3f{in.p[k][0][l], in.p[k][1][l], in.p[k][2][l]};
+            n[k] = Vec3f{in.n[k][0][l], in.n[k][1][l], in.n[k][2][l]};
+            uv[k] = Vec2f{in.uv[k][0][l], in.uv[k][1][l]};
+        }
+        c.n = Normals ? n : nullptr;
+        c.uv = Uvs ? uv : nullptr;
+        const TriangleHitValues r = triangleHitValues(c, u[l], v[l]);
+        out.p[0][l] = r.p.x;
+        out.p[1][l] = r.p.y;
+        out.p[2][l] = r.p.z;
+        out.ng[0][l] = r.ng.x;
+        out.ng[1][l] = r.ng.y;
+        out.ng[2][l] = r.ng.z;
+        out.ns[0][l] = r.ns.x;
+        out.ns[1][l] = r.ns.y;
+        out.ns[2][l] = r.ns.z;
+        out.uv[0][l] = r.uv.x;
+        out.uv[1][l] = r.uv.y;
+    }
+}
+
+}  // namespace
+
+PENUMBRA_LANE_CLONES void completeTriangleHitLanes(const TriangleMesh& m, int n, const uint32_t* tri, const float* u,
+                                                   const float* v, Hit* const* out) {
+    assert(n >= 0 && n <= kHitLanes);
+    CornerLanes in;
+    alignas(64) float ul[kHitLanes], vl[kHitLanes];
+    const bool normals = !m.normals.empty(), uvs = !m.uvs.empty();
+    // Every lane is computed (the lanes past n repeat the first), so that the loop has no remainder.
+    for (int l = 0; l < kHitLanes; ++l) {
+        const int from = l < n ? l : 0;
+        const uint32_t* idx = &m.indices[3 * size_t(tri[from])];
+        for (int k = 0; k < 3; ++k) {
+            const Vec3f& p = m.positions[idx[k]];
+            in.p[k][0][l] = p.x;
+            in.p[k][1][l] = p.y;
+            in.p[k][2][l] = p.z;
+            const Vec3f nk = normals ? m.normals[idx[k]] : Vec3f{};
+            in.n[k][0][l] = nk.x;
+            in.n[k][1][l] = nk.y;
+            in.n[k][2][l] = nk.z;
+            const Vec2f uk = uvs ? m.uvs[idx[k]] : Vec2f{};
+            in.uv[k][0][l] = uk.x;
+            in.uv[k][1][l] = uk.y;
+        }
+        ul[l] = u[from];
+        vl[l] = v[from];
+    }
+    HitValueLanes r;
+    if (normals)
+        uvs ? triangleHitValuesLanes<true, true>(in, ul, vl, r) : triangleHitValuesLanes<true, false>(in, ul, vl, r);
+    else
+        uvs ? triangleHitValuesLanes<false, true>(in, ul, vl, r) : triangleHitValuesLanes<false, false>(in, ul, vl, r);
+    for (int l = 0; l < n; ++l) {
+        Hit& h = *out[l];
+        h.p = Vec3f{r.p[0][l], r.p[1][l], r.p[2][l]};
+        h.ng = Vec3f{r.ng[0][l], r.ng[1][l], r.ng[2][l]};
+        h.ns = Vec3f{r.ns[0][l], r.ns[1][l], r.ns[2][l]};
+        h.uv = Vec2f{r.uv[0][l], r.uv[1][l]};
+        h.material = m.materialOf(tri[l]);
+    }
 }
 
 Bounds3f bounds(const TriangleMesh& m) {

@@ -240,12 +240,53 @@ struct TriangleCorners {
     const Vec3f* n = nullptr;
     const Vec2f* uv = nullptr;
 };
+/// What a triangle hit at barycentrics (1-u-v, u, v) holds: the interpolated
+/// point, the unit geometric normal, the shading normal (the vertex normals
+/// interpolated and turned to ng's side; ng where there are none or they
+/// cancel) and the uv (the vertices', else (u, v)).
+struct TriangleHitValues {
+    Vec3f p, ng, ns;
+    Vec2f uv;
+};
+/// The rule every triangle hit follows, one lane's worth: inline and free of
+/// branches that depend on the lane, so that completeTriangleHitLanes' loop
+/// over lanes vectorises it (sqrt and division round as the scalar ones do).
+[[gnu::always_inline]] inline TriangleHitValues triangleHitValues(const TriangleCorners& c, float u, float v) {
+    // normalize(), and the choices below, component by component: selects of
+    // whole vectors kept GCC from vectorising the loop over lanes.
+    const auto unit = [](const Vec3f& a) {
+        const float l = length(a), inv = 1.f / l;
+        const bool some = l > 0.f;
+        return Vec3f{some ? a.x * inv : 0.f, some ? a.y * inv : 0.f, some ? a.z * inv : 0.f};
+    };
+    TriangleHitValues r;
+    const float w = 1.f - u - v;
+    r.p = w * c.p[0] + u * c.p[1] + v * c.p[2];
+    r.ng = unit(cross(c.p[1] - c.p[0], c.p[2] - c.p[0]));
+    r.ns = r.ng;
+    if (c.n) {
+        const Vec3f n = unit(w * c.n[0] + u * c.n[1] + v * c.n[2]);
+        const bool use = lengthSquared(n) > 0.f, flip = dot(n, r.ng) < 0.f;
+        r.ns.x = use ? (flip ? -n.x : n.x) : r.ng.x;
+        r.ns.y = use ? (flip ? -n.y : n.y) : r.ng.y;
+        r.ns.z = use ? (flip ? -n.z : n.z) : r.ng.z;
+    }
+    r.uv = c.uv ? Vec2f{w * c.uv[0].x + u * c.uv[1].x + v * c.uv[2].x, w * c.uv[0].y + u * c.uv[1].y + v * c.uv[2].y}
+                : Vec2f{u, v};
+    return r;
+}
 /// The hit at barycentrics (1-u-v, u, v) of a triangle given by its corners
 /// (what the mesh version computes; the material is left as it was).
 void completeTriangleHit(const TriangleCorners& corners, float u, float v, Hit& h);
 /// Triangle `tri` of a mesh at barycentrics (u, v): interpolated point, smooth
 /// normal (when the mesh has normals), uv and material.
 void completeTriangleHit(const TriangleMesh& m, uint32_t tri, float u, float v, Hit& h);
+/// completeTriangleHit(m, tri[l], u[l], v[l], *out[l]) for the n <= 16 lanes
+/// of a batch whose hits lie on one mesh, the same values bit for bit: the
+/// corners gathered into arrays and triangleHitValues over the lanes at once,
+/// where one by one each hit waited on its own square roots and divisions.
+void completeTriangleHitLanes(const TriangleMesh& m, int n, const uint32_t* tri, const float* u, const float* v,
+                              Hit* const* out);
 
 /// Watertight ray/triangle test (Woop, Benthin & Wald 2013): rays through a
 /// shared edge or vertex hit at least one of the triangles sharing it.

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <utility>
 
@@ -331,6 +332,85 @@ TEST(BoxTest, BranchFreeTestGivesTheBranchyTestsAnswersBitForBit) {
             ++compared;
         }
     EXPECT_GT(hits, compared / 40);  // about 4%: random rays through a cube of side 8
+}
+
+// ------------------------------------------------- triangle hits over lanes
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// completeTriangleHitLanes gives each lane what completeTriangleHit gives it,
+// bit for bit: with and without vertex normals and uvs, for 1 to 16 lanes, on
+// triangles whose vertex normals cancel and on degenerate ones.
+TEST(HitCompletionTest, TriangleHitsOverTheLanesEqualTheScalarOnes) {
+    uint32_t state = 777u;
+    const auto uniform = [&] {
+        state = state * 1664525u + 1013904223u;
+        return float(state >> 8) * 0x1p-24f;
+    };
+    const auto point = [&] { return Vec3f{8.f * uniform() - 4.f, 8.f * uniform() - 4.f, 8.f * uniform() - 4.f}; };
+    for (int variant = 0; variant < 4; ++variant) {
+        const bool normals = variant & 1, uvs = variant & 2;
+        TriangleMesh m;
+        m.material = 3;
+        for (int i = 0; i < 60; ++i) {
+            m.positions.push_back(point());
+            if (normals) m.normals.push_back(normalize(point()));
+            if (uvs) m.uvs.push_back(Vec2f{uniform(), uniform()});
+        }
+        for (uint32_t t = 0; t < 40; ++t)
+            for (uint32_t k = 0; k < 3; ++k) m.indices.push_back((t * 7 + k * 13) % 60);
+        // Triangle 40: its corners' normals cancel at the centre; 41: all three corners on one line.
+        m.positions.push_back({0.f, 0.f, 0.f});
+        m.positions.push_back({1.f, 0.f, 0.f});
+        m.positions.push_back({0.f, 1.f, 0.f});
+        m.positions.push_back({2.f, 2.f, 2.f});
+        if (normals) {
+            m.normals.push_back({0.f, 0.f, 1.f});
+            m.normals.push_back({0.f, 0.f, 1.f});
+            m.normals.push_back({0.f, 0.f, -1.f});  // half of 61's and half of this one: zero
+            m.normals.push_back({0.f, 1.f, 0.f});
+        }
+        if (uvs) m.uvs.insert(m.uvs.end(), 4, Vec2f{0.5f, 0.5f});
+        m.indices.insert(m.indices.end(), {60, 61, 62, 60, 61, 63});
+        m.positions[63] = {3.f, 0.f, 0.f};  // on the line through 60 and 61
+        m.faceMaterials.assign(42, 0);
+        for (uint32_t t = 0; t < 42; ++t) m.faceMaterials[t] = t % 5;
+        for (int n = 1; n <= 16; ++n) {
+            uint32_t tri[16];
+            float u[16], v[16];
+            Hit lanes[16];
+            Hit* out[16];
+            for (int l = 0; l < n; ++l) {
+                tri[l] = l % 7 == 3 ? 40 : l % 7 == 5 ? 41 : uint32_t(uniform() * 40.f) % 40;
+                u[l] = tri[l] == 40 ? 0.5f : uniform();
+                v[l] = tri[l] == 40 ? 0.5f : (1.f - u[l]) * uniform();
+                out[l] = &lanes[l];
+            }
+            completeTriangleHitLanes(m, n, tri, u, v, out);
+            for (int l = 0; l < n; ++l) {
+                Hit want;
+                completeTriangleHit(m, tri[l], u[l], v[l], want);
+                const Hit& got = lanes[l];
+                const float a[] = {got.p.x, got.p.y, got.p.z, got.ng.x, got.ng.y, got.ng.z, got.ns.x, got.ns.y,
+                                   got.ns.z, got.uv.x, got.uv.y};
+                const float b[] = {want.p.x, want.p.y, want.p.z, want.ng.x, want.ng.y, want.ng.z, want.ns.x, want.ns.y,
+                                   want.ns.z, want.uv.x, want.uv.y};
+                for (int f = 0; f < 11; ++f) {
+                    ASSERT_TRUE(sameBits(a[f], b[f]))
+                        << "variant " << variant << ", " << n << " lanes, lane " << l << ", field " << f << ": " << a[f]
+                        << " against " << b[f];
+                }
+                EXPECT_EQ(got.material, want.material);
+            }
+        }
+        // The cancelling normals leave the geometric one; the degenerate triangle's normal is zero.
+        Hit h;
+        completeTriangleHit(m, 40, 0.5f, 0.5f, h);
+        EXPECT_EQ(h.ns, h.ng);
+        EXPECT_EQ(h.ng, (Vec3f{0.f, 0.f, 1.f}));
+        completeTriangleHit(m, 41, 0.25f, 0.25f, h);
+        EXPECT_EQ(h.ng, Vec3f{});
+    }
 }
 
 // ------------------------------------------------- uv only where textured

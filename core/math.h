@@ -61,9 +61,12 @@ constexpr Vec3f cross(const Vec3f& a, const Vec3f& b) {
 constexpr float lengthSquared(const Vec3f& a) { return dot(a, a); }
 inline float length(const Vec3f& a) { return std::sqrt(dot(a, a)); }
 /// Unit vector in the direction of a; the zero vector stays zero (never NaN).
+/// The choice is made per component: a select of whole vectors kept GCC from
+/// vectorising loops over lanes that normalise (completeTriangleHitLanes).
 inline Vec3f normalize(const Vec3f& a) {
-    float l = length(a);
-    return l > 0.f ? a / l : Vec3f{};
+    const float l = length(a), inv = 1.f / l;
+    const bool some = l > 0.f;
+    return {some ? a.x * inv : 0.f, some ? a.y * inv : 0.f, some ? a.z * inv : 0.f};
 }
 inline Vec3f min(const Vec3f& a, const Vec3f& b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
 inline Vec3f max(const Vec3f& a, const Vec3f& b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }

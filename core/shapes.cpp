@@ -3,7 +3,6 @@
 #include <cassert>
 
 #include "core/lane_clones.h"
-
 #include "core/sampling.h"
 
 namespace penumbra {

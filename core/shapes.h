@@ -252,20 +252,15 @@ struct TriangleHitValues {
 /// branches that depend on the lane, so that completeTriangleHitLanes' loop
 /// over lanes vectorises it (sqrt and division round as the scalar ones do).
 [[gnu::always_inline]] inline TriangleHitValues triangleHitValues(const TriangleCorners& c, float u, float v) {
-    // normalize(), and the choices below, component by component: selects of
-    // whole vectors kept GCC from vectorising the loop over lanes.
-    const auto unit = [](const Vec3f& a) {
-        const float l = length(a), inv = 1.f / l;
-        const bool some = l > 0.f;
-        return Vec3f{some ? a.x * inv : 0.f, some ? a.y * inv : 0.f, some ? a.z * inv : 0.f};
-    };
+    // The choices component by component, as normalize() makes its own: selects
+    // of whole vectors kept GCC from vectorising the loop over lanes.
     TriangleHitValues r;
     const float w = 1.f - u - v;
     r.p = w * c.p[0] + u * c.p[1] + v * c.p[2];
-    r.ng = unit(cross(c.p[1] - c.p[0], c.p[2] - c.p[0]));
+    r.ng = normalize(cross(c.p[1] - c.p[0], c.p[2] - c.p[0]));
     r.ns = r.ng;
     if (c.n) {
-        const Vec3f n = unit(w * c.n[0] + u * c.n[1] + v * c.n[2]);
+        const Vec3f n = normalize(w * c.n[0] + u * c.n[1] + v * c.n[2]);
         const bool use = lengthSquared(n) > 0.f, flip = dot(n, r.ng) < 0.f;
         r.ns.x = use ? (flip ? -n.x : n.x) : r.ng.x;
         r.ns.y = use ? (flip ? -n.y : n.y) : r.ng.y;

@@ -2,10 +2,11 @@
 
 #include <libdeflate.h>
 
-#include <cstring>
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <new>
+#include <string>
 
 namespace penumbra {
 namespace {
@@ -75,15 +76,15 @@ struct FreeCompressor {
 }  // namespace
 
 bool encodePng(const PngImage& image, std::vector<unsigned char>& out, std::string& error) {
-    constexpr int kMaxSide = std::numeric_limits<int32_t>::max();
     if (image.width < 1 || image.height < 1) {
         error = "PNG: the image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                 " pixels: width and height must be at least 1";
         return false;
     }
-    // Rows of 1 + 3 width bytes: a size that does not fit in memory's address range is refused.
+    // Rows of 1 + 3 width bytes (PNG's own limit on a side, 2^31 - 1, is int's): an image whose
+    // rows would not fit in the address space is refused before anything is allocated.
     const size_t stride = size_t(image.width) * 3 + 1;
-    if (image.width > (kMaxSide - 1) / 3 || size_t(image.height) > std::numeric_limits<size_t>::max() / 2 / stride) {
+    if (size_t(image.height) > std::numeric_limits<size_t>::max() / 2 / stride) {
         error = "PNG: the image is too large (" + std::to_string(image.width) + "x" + std::to_string(image.height) +
                 " pixels)";
         return false;

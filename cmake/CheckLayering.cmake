@@ -2,7 +2,7 @@
 #   Embree only in accel/, TBB only in core/parallel_tbb.cpp, OpenImageIO only
 #   in core/oiio/oiio_module.cpp (the dlopen()ed image module), tinyobjloader only in
 #   core/io/obj_loader.cpp, Assimp only in core/io/assimp_loader.cpp, tinygltf only in core/io/gltf_model.h
-#   (the glTF reader's files include it from there), pugixml only in core/io/xml_checks.cpp, libpng only
+#   (the glTF reader's files include it from there), pugixml only in core/io/xml_checks.cpp, libdeflate only
 #   in core/png_encoder.cpp
 #   (the XML checks made before Assimp reads a file), nlohmann-json in the library only in
 #   core/io/json_document.h (the JSON loader's files include it from there); the loaders' path policy

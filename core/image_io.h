@@ -1,6 +1,6 @@
 // Writing the film (and reading images back, for tests and tools). OpenImageIO
 // encodes and decodes in memory behind libpenumbra_oiio.so (core/oiio/), loaded
-// on the first image; PNG is written by libpng (core/png_encoder.h) and PFM by
+// on the first image; PNG (core/png_encoder.h, compressed by libdeflate) and PFM are written by
 // Penumbra itself, so neither loads that module; the bytes are written all or
 // nothing by core/atomic_file.h.
 #pragma once

@@ -1,5 +1,5 @@
 // PNG files encoded in memory: 8-bit RGB, the sRGB chunk and text entries, the
-// image data compressed by libdeflate (twice as fast as zlib for a smaller
+// image data compressed by libdeflate (faster than zlib for a smaller
 // file: README, "Output"). Penumbra's PNG output goes through here rather than
 // OpenImageIO, whose ~260 shared libraries a process would otherwise load
 // (about 0.2-0.4 s and 120 MiB) to write one image; reading PNGs stays with
